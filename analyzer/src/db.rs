@@ -1,0 +1,414 @@
+//! The salsa database: inputs (file texts, the workspace) and the structure
+//! of a file (its `define` units and their items).
+//!
+//! Incrementality rests on two decisions:
+//! - an item's syntax is its green tree, which has no absolute position, and
+//!   its model uses item-relative spans: editing one item leaves every other
+//!   item's model equal, so their checks are not re-run;
+//! - `:init` sections are split into chunks of facts, each an item, so that an
+//!   edit in one fact of a 5 MB problem re-checks one chunk.
+
+use std::sync::Arc;
+
+use rowan::{NodeOrToken, TextRange, TextSize};
+
+use crate::diagnostic::{Diagnostic, Severity, codes};
+use crate::model::{self, Lowered};
+use crate::syntax::{self, Green, GreenElement, List, Parse, Sexp, SyntaxKind, TextEdit};
+
+/// The database trait every query takes.
+#[salsa::db]
+pub trait Db: salsa::Database {}
+
+/// A file: its path (for display and to find a problem's domain) and its text.
+#[salsa::input(debug)]
+pub struct SourceFile {
+    #[returns(ref)]
+    pub path: String,
+    #[returns(ref)]
+    pub text: Arc<str>,
+    /// The previous parse and the edits that led to `text`, when known: lets
+    /// [`parse`] re-parse only what changed. Never changes the result.
+    #[returns(ref)]
+    pub reparse_hint: Option<Arc<ReparseHint>>,
+}
+
+/// A previous parse and the edits applied since.
+#[derive(Debug)]
+pub struct ReparseHint {
+    pub base: Parse,
+    pub edits: Vec<TextEdit>,
+}
+
+/// The files that make up the workspace: a problem's domain is looked up among them.
+#[salsa::input(singleton, debug)]
+pub struct Workspace {
+    #[returns(ref)]
+    pub files: Vec<SourceFile>,
+}
+
+/// Parses a file. Not compared for backdating: the tree changes whenever the text does.
+#[salsa::tracked(returns(ref), no_eq)]
+pub fn parse(db: &dyn Db, file: SourceFile) -> Parse {
+    let text = file.text(db);
+    match file.reparse_hint(db) {
+        Some(hint) => syntax::reparse(&hint.base, &hint.edits, text),
+        None => syntax::parse(text),
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum UnitKind {
+    Domain,
+    Problem,
+    /// A `define` without a `(domain …)` or `(problem …)` header.
+    Unknown,
+}
+
+/// The section an item is, from its head keyword.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Section {
+    Header,
+    DomainRef,
+    Requirements,
+    Types,
+    Constants,
+    Predicates,
+    Functions,
+    Action,
+    Task,
+    Method,
+    Derived,
+    Objects,
+    Init,
+    Goal,
+    Htn,
+    AllowedActions,
+    Metric,
+    Constraints,
+    Other,
+}
+
+impl Section {
+    fn of(head: Option<&str>) -> Section {
+        let Some(h) = head else { return Section::Other };
+        match h.to_ascii_lowercase().as_str() {
+            "domain" | "problem" => Section::Header,
+            ":domain" => Section::DomainRef,
+            ":requirements" => Section::Requirements,
+            ":types" => Section::Types,
+            ":constants" => Section::Constants,
+            ":predicates" => Section::Predicates,
+            ":functions" => Section::Functions,
+            ":action" | ":durative-action" | ":process" | ":event" => Section::Action,
+            ":task" => Section::Task,
+            ":method" | ":durative-method" => Section::Method,
+            ":derived" => Section::Derived,
+            ":objects" => Section::Objects,
+            ":init" => Section::Init,
+            ":goal" => Section::Goal,
+            ":htn" | ":tihtn" | ":htnti" | ":tasks" => Section::Htn,
+            ":allowed-actions" => Section::AllowedActions,
+            ":metric" => Section::Metric,
+            ":constraints" => Section::Constraints,
+            _ => Section::Other,
+        }
+    }
+
+    /// Whether the section belongs in a domain (`Some(true)`), a problem (`Some(false)`), or both.
+    pub fn belongs_to_domain(self) -> Option<bool> {
+        match self {
+            Section::Types
+            | Section::Constants
+            | Section::Predicates
+            | Section::Functions
+            | Section::Action
+            | Section::Task
+            | Section::Method
+            | Section::Derived => Some(true),
+            Section::DomainRef
+            | Section::Objects
+            | Section::Init
+            | Section::Goal
+            | Section::Htn
+            | Section::AllowedActions
+            | Section::Metric => Some(false),
+            _ => None,
+        }
+    }
+}
+
+/// One `(define …)` of a file.
+#[salsa::tracked(debug)]
+pub struct Unit<'db> {
+    #[returns(copy)]
+    pub file: SourceFile,
+    #[returns(copy)]
+    pub index: u32,
+    #[tracked]
+    #[returns(copy)]
+    pub kind: UnitKind,
+    /// The lower-cased name from `(domain name)` / `(problem name)`.
+    #[tracked]
+    #[returns(ref)]
+    pub name: Option<String>,
+    /// For problems: the lower-cased name from `(:domain name)`.
+    #[tracked]
+    #[returns(ref)]
+    pub domain_ref: Option<String>,
+    #[tracked]
+    #[returns(ref)]
+    pub items: Vec<Item<'db>>,
+    /// Absolute range of the `define` list (read only to locate unit-level diagnostics).
+    #[tracked]
+    #[returns(copy)]
+    pub range: TextRange,
+}
+
+/// The syntax of an item: a section list, or a chunk of `:init` elements.
+#[derive(Debug, Clone)]
+pub enum ItemSyntax {
+    List(Green),
+    /// Significant elements with their offsets relative to the first one.
+    Chunk(Arc<[(TextSize, GreenElement)]>),
+}
+
+fn element_eq(a: &GreenElement, b: &GreenElement) -> bool {
+    match (a, b) {
+        (NodeOrToken::Node(a), NodeOrToken::Node(b)) => Green(a.clone()) == Green(b.clone()),
+        (NodeOrToken::Token(a), NodeOrToken::Token(b)) => a == b,
+        _ => false,
+    }
+}
+
+impl PartialEq for ItemSyntax {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (ItemSyntax::List(a), ItemSyntax::List(b)) => a == b,
+            (ItemSyntax::Chunk(a), ItemSyntax::Chunk(b)) => {
+                Arc::ptr_eq(a, b)
+                    || (a.len() == b.len()
+                        && a.iter().zip(b.iter()).all(|((oa, ea), (ob, eb))| oa == ob && element_eq(ea, eb)))
+            }
+            _ => false,
+        }
+    }
+}
+impl Eq for ItemSyntax {}
+
+/// One section of a `define`, or a chunk of its `:init`.
+#[salsa::tracked(debug)]
+pub struct Item<'db> {
+    #[returns(copy)]
+    pub file: SourceFile,
+    #[returns(copy)]
+    pub unit: u32,
+    #[returns(copy)]
+    pub unit_kind: UnitKind,
+    #[returns(copy)]
+    pub section: Section,
+    /// The declared name, for actions, tasks and methods (part of the identity, so
+    /// that inserting an action does not shift the identity of the others).
+    #[returns(ref)]
+    pub name: Option<String>,
+    #[tracked]
+    #[returns(ref)]
+    pub syntax: ItemSyntax,
+    /// Absolute offset of the item's first byte (read only to locate results).
+    #[tracked]
+    #[returns(copy)]
+    pub offset: TextSize,
+}
+
+/// How many `:init` elements make a chunk.
+pub const INIT_CHUNK: usize = 64;
+
+fn header_of(list: &List) -> (UnitKind, Option<String>) {
+    for e in list.elements().skip(1) {
+        if let Sexp::List(l) = e {
+            let elems: Vec<Sexp> = l.elements().collect();
+            let kind = match elems.first() {
+                Some(h) if h.is_atom("domain") => UnitKind::Domain,
+                Some(h) if h.is_atom("problem") => UnitKind::Problem,
+                _ => continue,
+            };
+            return (kind, elems.get(1).and_then(|n| n.atom_text()).map(str::to_ascii_lowercase));
+        }
+    }
+    (UnitKind::Unknown, None)
+}
+
+/// The `define` units of a file and their items.
+#[salsa::tracked(returns(ref))]
+pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
+    let root = parse(db, file).syntax();
+    let mut units = Vec::new();
+    for (index, list) in root.children().filter_map(List::cast).filter(|l| l.head_is("define")).enumerate() {
+        let index = index as u32;
+        let (kind, name) = header_of(&list);
+        let mut domain_ref = None;
+        let mut items = Vec::new();
+        for child in list.0.children().filter_map(List::cast) {
+            let head = child.head_text();
+            let section = Section::of(head.as_deref());
+            let offset = child.range().start();
+            match section {
+                Section::Init => {
+                    let elements: Vec<(TextSize, GreenElement)> = child
+                        .0
+                        .children_with_tokens()
+                        .skip_while(|e| e.kind() != SyntaxKind::Keyword)
+                        .skip(1)
+                        .filter(|e| e.kind() == SyntaxKind::List || e.kind().is_atom())
+                        .map(|e| {
+                            let start = e.text_range().start();
+                            let green: GreenElement = match e {
+                                NodeOrToken::Node(n) => NodeOrToken::Node(n.green().into_owned()),
+                                NodeOrToken::Token(t) => NodeOrToken::Token(t.green().to_owned()),
+                            };
+                            (start, green)
+                        })
+                        .collect();
+                    if elements.is_empty() {
+                        let syntax = ItemSyntax::Chunk(Arc::from(Vec::new()));
+                        items.push(Item::new(db, file, index, kind, section, None, syntax, offset));
+                    }
+                    for chunk in elements.chunks(INIT_CHUNK) {
+                        let first = chunk[0].0;
+                        let rel: Arc<[_]> = chunk.iter().map(|(o, g)| (*o - first, g.clone())).collect();
+                        items.push(Item::new(
+                            db,
+                            file,
+                            index,
+                            kind,
+                            section,
+                            None,
+                            ItemSyntax::Chunk(rel),
+                            first,
+                        ));
+                    }
+                }
+                _ => {
+                    if section == Section::DomainRef {
+                        domain_ref =
+                            child.elements().nth(1).and_then(|n| n.atom_text().map(str::to_ascii_lowercase));
+                    }
+                    let name = match section {
+                        Section::Action | Section::Task | Section::Method => {
+                            child.elements().nth(1).and_then(|n| n.atom_text().map(str::to_ascii_lowercase))
+                        }
+                        _ => None,
+                    };
+                    let syntax = ItemSyntax::List(Green(child.0.green().into_owned()));
+                    items.push(Item::new(db, file, index, kind, section, name, syntax, offset));
+                }
+            }
+        }
+        units.push(Unit::new(db, file, index, kind, name, domain_ref, items, list.range()));
+    }
+    units
+}
+
+/// Lowers one item to its model.
+#[salsa::tracked(returns(ref))]
+pub fn lower_item<'db>(db: &'db dyn Db, item: Item<'db>) -> Lowered {
+    match item.syntax(db) {
+        ItemSyntax::List(green) => model::lower_list(&green.0),
+        ItemSyntax::Chunk(elements) => model::lower_chunk(elements),
+    }
+}
+
+/// Diagnostics about the file's top level: syntax errors and what is not a `define`.
+#[salsa::tracked(returns(ref))]
+pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
+    let parse = parse(db, file);
+    let mut out: Vec<Diagnostic> = parse
+        .errors
+        .iter()
+        .map(|e| Diagnostic {
+            code: if e.message.starts_with("missing") { codes::MISSING_PAREN } else { codes::EXTRA_PAREN },
+            severity: Severity::Error,
+            file,
+            range: e.range,
+            message: e.message.clone(),
+            related: e
+                .related
+                .iter()
+                .map(|(r, m)| crate::diagnostic::Related { file, range: *r, message: m.clone() })
+                .collect(),
+            fix: None,
+        })
+        .collect();
+    let root = parse.syntax();
+    let mut saw_define = false;
+    let mut stray = Vec::new();
+    for e in root.children_with_tokens() {
+        let (range, what) = match &e {
+            NodeOrToken::Node(n) => match List::cast(n.clone()) {
+                Some(l) if l.head_is("define") => {
+                    saw_define = true;
+                    if header_of(&l).0 == UnitKind::Unknown {
+                        let at = l.head().map_or(l.open_range(), |h| h.range());
+                        out.push(structure_error(
+                            file,
+                            at,
+                            "expected `(domain name)` or `(problem name)` after `define`",
+                        ));
+                    }
+                    continue;
+                }
+                Some(l) => (l.range(), "expected `(define …)` at the top level"),
+                None => continue,
+            },
+            NodeOrToken::Token(t) if t.kind().is_atom() => {
+                (t.text_range(), "expected `(define …)` at the top level")
+            }
+            NodeOrToken::Token(_) => continue,
+        };
+        stray.push(structure_error(file, range, what));
+    }
+    if !saw_define {
+        // Not a domain or problem at all (a plan, say): one diagnostic, not one per line.
+        if let Some(first) = stray.first_mut() {
+            first.message =
+                "expected `(define (domain …) …)` or `(define (problem …) …)`: this is not a domain or problem file"
+                    .into();
+            stray.truncate(1);
+        }
+    }
+    out.extend(stray);
+    out
+}
+
+fn structure_error(file: SourceFile, range: TextRange, message: &str) -> Diagnostic {
+    Diagnostic {
+        code: codes::MALFORMED,
+        severity: Severity::Error,
+        file,
+        range,
+        message: message.to_string(),
+        related: Vec::new(),
+        fix: None,
+    }
+}
+
+/// The concrete database.
+#[salsa::db]
+#[derive(Clone, Default)]
+pub struct RootDatabase {
+    storage: salsa::Storage<Self>,
+}
+
+impl RootDatabase {
+    /// A database that reports every salsa event to `callback` (used by tests
+    /// that check what is re-executed).
+    pub fn with_event_callback(callback: Box<dyn Fn(salsa::Event) + Send + Sync + 'static>) -> Self {
+        RootDatabase { storage: salsa::Storage::new(Some(callback)) }
+    }
+}
+
+#[salsa::db]
+impl salsa::Database for RootDatabase {}
+
+#[salsa::db]
+impl Db for RootDatabase {}

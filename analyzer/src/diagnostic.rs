@@ -1,0 +1,140 @@
+//! The one diagnostic type of hipop, and the registry of stable codes.
+//!
+//! Architecture invariant: no LSP or terminal types here. The CLI converts
+//! to codespan-reporting, the server to LSP; both keep the code, the message,
+//! the primary range, the related ranges and the fix.
+
+use rowan::TextRange;
+
+use crate::db::SourceFile;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Severity {
+    Error,
+    Warning,
+    Info,
+}
+
+impl Severity {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+            Severity::Info => "info",
+        }
+    }
+}
+
+/// A stable diagnostic code.
+#[derive(Debug, PartialEq, Eq, Hash)]
+pub struct Code {
+    /// `E0102`: never reused for another meaning.
+    pub id: &'static str,
+    /// `undefined-predicate`: the name used in docs and in `--format json`.
+    pub name: &'static str,
+    pub severity: Severity,
+    /// One line for `hipop check --explain`-style listings.
+    pub summary: &'static str,
+}
+
+macro_rules! codes {
+    ($($konst:ident = $id:literal $name:literal $sev:ident $summary:literal;)*) => {
+        $(pub const $konst: &Code = &Code { id: $id, name: $name, severity: Severity::$sev, summary: $summary };)*
+        /// Every code, in order.
+        pub const ALL: &[&Code] = &[$($konst),*];
+    };
+}
+
+/// The registry. Documented with an example each in `docs/diagnostics.md`.
+pub mod codes {
+    use super::{Code, Severity};
+    codes! {
+        MISSING_PAREN = "E0001" "missing-paren" Error "a list is not closed";
+        EXTRA_PAREN = "E0002" "extra-paren" Error "a `)` closes nothing or closes too early";
+        MALFORMED = "E0003" "malformed" Error "an element does not have the expected shape";
+        UNKNOWN_SECTION = "E0004" "unknown-section" Error "a section or field keyword is not part of the language";
+        UNSUPPORTED = "E0005" "unsupported" Error "a construct hipop reads but does not support (PDDL+)";
+        MISPLACED_SECTION = "E0006" "misplaced-section" Error "a problem section in a domain, or the reverse";
+        UNDEFINED_TYPE = "E0101" "undefined-type" Error "a type is used but not declared";
+        UNDEFINED_PREDICATE = "E0102" "undefined-predicate" Error "a predicate is used but not declared";
+        UNDEFINED_FUNCTION = "E0103" "undefined-function" Error "a function (numeric fluent) is used but not declared";
+        UNDEFINED_ACTION = "E0104" "undefined-action" Error "a subtask or allowed action names no action or task";
+        UNDEFINED_TASK = "E0105" "undefined-task" Error "a method decomposes a task that is not declared";
+        UNDEFINED_OBJECT = "E0106" "undefined-object" Error "a constant or object is used but not declared";
+        UNDEFINED_VARIABLE = "E0107" "undefined-variable" Error "a variable is not bound by a parameter or quantifier";
+        UNDEFINED_SUBTASK = "E0108" "undefined-subtask" Error "an ordering or constraint names no subtask id of its network";
+        DUPLICATE = "E0109" "duplicate-definition" Error "a name is declared twice";
+        ARITY = "E0110" "wrong-arity" Error "a predicate, function, action or task gets the wrong number of arguments";
+        TYPE_MISMATCH = "E0111" "type-mismatch" Error "an argument's type is not a subtype of the parameter's type";
+        TYPE_CYCLE = "E0112" "type-cycle" Error "the type hierarchy has a cycle";
+        ORDERING_CYCLE = "E0113" "ordering-cycle" Error "the ordering constraints of a task network have a cycle";
+        MISSING_DOMAIN = "E0114" "missing-domain" Error "a problem's domain is not among the files";
+
+        UNUSED = "W0201" "unused-declaration" Warning "a type, predicate, function or constant is declared but never used";
+        UNKNOWN_REQUIREMENT = "W0202" "unknown-requirement" Warning "a requirement is not one hipop knows";
+        MISSING_REQUIREMENT = "W0203" "missing-requirement" Warning "a feature is used without its requirement";
+        DUPLICATE_TYPE = "W0204" "duplicate-type" Warning "a type is declared twice";
+        DOMAIN_MISMATCH = "W0205" "domain-mismatch" Warning "a problem names a domain other than the one beside it";
+        CONSTANT_FROM_PROBLEM = "W0206" "constant-from-problem" Warning "a domain uses a constant that only its problems declare";
+    }
+}
+
+/// A secondary location with a message.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Related {
+    pub file: SourceFile,
+    pub range: TextRange,
+    pub message: String,
+}
+
+/// A text replacement that fixes a diagnostic.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Fix {
+    pub message: String,
+    pub edits: Vec<(SourceFile, TextRange, String)>,
+}
+
+/// A diagnostic located in absolute byte ranges of a file.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Diagnostic {
+    pub code: &'static Code,
+    pub severity: Severity,
+    pub file: SourceFile,
+    pub range: TextRange,
+    pub message: String,
+    pub related: Vec<Related>,
+    pub fix: Option<Fix>,
+}
+
+/// A diagnostic found while lowering or checking one item, in item-relative ranges.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct LocalDiag {
+    pub code: &'static Code,
+    pub span: TextRange,
+    pub message: String,
+    /// Related spans in the same item.
+    pub related: Vec<(TextRange, String)>,
+    /// A replacement in the same item.
+    pub fix: Option<(String, TextRange, String)>,
+}
+
+impl LocalDiag {
+    pub fn new(code: &'static Code, span: TextRange, message: impl Into<String>) -> LocalDiag {
+        LocalDiag { code, span, message: message.into(), related: Vec::new(), fix: None }
+    }
+
+    pub fn with_related(mut self, span: TextRange, message: impl Into<String>) -> LocalDiag {
+        self.related.push((span, message.into()));
+        self
+    }
+
+    pub fn with_fix(
+        mut self,
+        message: impl Into<String>,
+        span: TextRange,
+        insert: impl Into<String>,
+    ) -> LocalDiag {
+        self.fix = Some((message.into(), span, insert.into()));
+        self
+    }
+}

@@ -1,0 +1,152 @@
+//! The entry point for the CLI and the server: an [`AnalysisHost`] owns the
+//! database and applies changes; an [`Analysis`] is a snapshot that answers
+//! questions, and is cancelled when a change is applied.
+
+use std::panic::{AssertUnwindSafe, UnwindSafe};
+use std::sync::Arc;
+
+use rustc_hash::FxHashMap;
+use salsa::Setter;
+
+use crate::db::{ReparseHint, RootDatabase, SourceFile, Workspace, parse};
+use crate::diagnostic::Diagnostic;
+use crate::syntax::TextEdit;
+
+/// A request was cancelled by a newer change.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Cancelled;
+
+pub type Cancellable<T> = Result<T, Cancelled>;
+
+/// Owns the database; the only place where inputs change.
+#[derive(Default)]
+pub struct AnalysisHost {
+    db: RootDatabase,
+    files: FxHashMap<String, SourceFile>,
+    workspace: Option<Workspace>,
+}
+
+impl AnalysisHost {
+    pub fn new() -> AnalysisHost {
+        AnalysisHost::default()
+    }
+
+    /// A host whose database reports salsa events (for incrementality tests).
+    pub fn with_event_callback(callback: Box<dyn Fn(salsa::Event) + Send + Sync + 'static>) -> AnalysisHost {
+        AnalysisHost { db: RootDatabase::with_event_callback(callback), ..AnalysisHost::default() }
+    }
+
+    pub fn file(&self, path: &str) -> Option<SourceFile> {
+        self.files.get(path).copied()
+    }
+
+    fn sync_workspace(&mut self) {
+        let mut files: Vec<SourceFile> = self.files.values().copied().collect();
+        files.sort_by_key(|f| f.path(&self.db).clone());
+        match self.workspace {
+            Some(ws) => {
+                if ws.files(&self.db) != &files {
+                    ws.set_files(&mut self.db).to(files);
+                }
+            }
+            None => self.workspace = Some(Workspace::new(&self.db, files)),
+        }
+    }
+
+    /// Adds a file, or replaces its whole text.
+    pub fn set_file_text(&mut self, path: &str, text: impl Into<Arc<str>>) -> SourceFile {
+        let text = text.into();
+        match self.files.get(path).copied() {
+            Some(file) => {
+                if **file.text(&self.db) != *text {
+                    file.set_text(&mut self.db).to(text);
+                    file.set_reparse_hint(&mut self.db).to(None);
+                }
+                file
+            }
+            None => {
+                let file = SourceFile::new(&self.db, path.to_string(), text, None);
+                self.files.insert(path.to_string(), file);
+                self.sync_workspace();
+                file
+            }
+        }
+    }
+
+    /// Applies edits (in order, each relative to the text after the previous
+    /// ones) to a file, re-parsing incrementally. Returns the new text.
+    pub fn apply_edits(&mut self, path: &str, edits: Vec<TextEdit>) -> Option<Arc<str>> {
+        let file = self.files.get(path).copied()?;
+        let base = parse(&self.db, file).clone();
+        let mut text = file.text(&self.db).to_string();
+        for e in &edits {
+            let (start, end) = (usize::from(e.range.start()), usize::from(e.range.end()));
+            if start > end || end > text.len() || !text.is_char_boundary(start) || !text.is_char_boundary(end)
+            {
+                return None;
+            }
+            e.apply(&mut text);
+        }
+        let text: Arc<str> = text.into();
+        file.set_text(&mut self.db).to(text.clone());
+        file.set_reparse_hint(&mut self.db).to(Some(Arc::new(ReparseHint { base, edits })));
+        Some(text)
+    }
+
+    pub fn remove_file(&mut self, path: &str) {
+        if self.files.remove(path).is_some() {
+            self.sync_workspace();
+        }
+    }
+
+    pub fn files(&self) -> impl Iterator<Item = (&str, SourceFile)> {
+        self.files.iter().map(|(p, f)| (p.as_str(), *f))
+    }
+
+    /// A snapshot to answer questions, possibly on another thread.
+    pub fn analysis(&self) -> Analysis {
+        Analysis { db: self.db.clone() }
+    }
+
+    /// Cancels every running query on snapshots (they return `Err(Cancelled)`).
+    pub fn request_cancellation(&mut self) {
+        use salsa::Database;
+        self.db.trigger_cancellation();
+    }
+
+    pub fn db(&self) -> &RootDatabase {
+        &self.db
+    }
+}
+
+/// A snapshot of the database.
+#[derive(Clone)]
+pub struct Analysis {
+    db: RootDatabase,
+}
+
+impl Analysis {
+    /// Runs `f`, turning salsa's cancellation unwinding into `Err(Cancelled)`.
+    pub fn with_db<T>(&self, f: impl FnOnce(&RootDatabase) -> T + UnwindSafe) -> Cancellable<T> {
+        let db = AssertUnwindSafe(&self.db);
+        salsa::Cancelled::catch(move || f(*db)).map_err(|_| Cancelled)
+    }
+
+    /// A handle that cancels this snapshot's running query.
+    pub fn cancellation_token(&self) -> salsa::CancellationToken {
+        use salsa::Database;
+        self.db.cancellation_token()
+    }
+
+    pub fn diagnostics(&self, file: SourceFile) -> Cancellable<Vec<Diagnostic>> {
+        self.with_db(|db| crate::semantics::file_diagnostics(db, file).clone())
+    }
+
+    pub fn file_text(&self, file: SourceFile) -> Cancellable<Arc<str>> {
+        self.with_db(|db| file.text(db).clone())
+    }
+
+    pub fn file_path(&self, file: SourceFile) -> Cancellable<String> {
+        self.with_db(|db| file.path(db).clone())
+    }
+}

@@ -1,0 +1,17 @@
+//! The hipop analyzer: a pure function from file texts to syntax, semantic model
+//! and diagnostics, incremental through salsa.
+//!
+//! Architecture invariant: no I/O, no printing, no LSP types. Positions are
+//! byte offsets; the CLI and the server convert them.
+
+pub mod db;
+pub mod diagnostic;
+mod host;
+pub mod model;
+pub mod semantics;
+pub mod syntax;
+
+pub use db::SourceFile;
+pub use diagnostic::{Code, Diagnostic, Fix, Related, Severity, codes};
+pub use host::{Analysis, AnalysisHost, Cancellable, Cancelled};
+pub use syntax::{TextEdit, TextRange, TextSize};

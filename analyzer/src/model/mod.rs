@@ -1,0 +1,347 @@
+//! The semantic model: what a domain or problem item means, independent of its
+//! layout. Every span is relative to the start of the item it comes from, so
+//! that editing one item leaves the model of every other item equal.
+
+mod lower;
+
+pub use lower::{Lowered, lower_chunk, lower_list};
+
+use rowan::TextRange;
+
+/// A name as written, with its lower-cased key (PDDL names are case-insensitive).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Name {
+    pub text: Box<str>,
+    pub key: Box<str>,
+    pub span: TextRange,
+}
+
+impl Name {
+    pub fn new(text: &str, span: TextRange) -> Name {
+        Name { text: text.into(), key: text.to_ascii_lowercase().into(), span }
+    }
+}
+
+/// A type annotation: `- t`, `- (either a b)`, or none (`object`).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum TypeRef {
+    Implicit,
+    Named(Name),
+    Either(Vec<Name>),
+}
+
+impl TypeRef {
+    pub fn names(&self) -> &[Name] {
+        match self {
+            TypeRef::Implicit => &[],
+            TypeRef::Named(n) => std::slice::from_ref(n),
+            TypeRef::Either(ns) => ns,
+        }
+    }
+}
+
+/// `name - type` in parameters, objects, constants and types.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Typed {
+    pub name: Name,
+    pub ty: TypeRef,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Term {
+    Var(Name),
+    Const(Name),
+    /// An object fluent or other function term, e.g. `(loc ?t)`.
+    Func(Box<Fluent>),
+}
+
+impl Term {
+    pub fn span(&self) -> TextRange {
+        match self {
+            Term::Var(n) | Term::Const(n) => n.span,
+            Term::Func(f) => f.span,
+        }
+    }
+}
+
+/// `(pred args…)`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Atom {
+    pub pred: Name,
+    pub args: Vec<Term>,
+    pub span: TextRange,
+}
+
+/// `(function args…)`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Fluent {
+    pub func: Name,
+    pub args: Vec<Term>,
+    pub span: TextRange,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TimeSpec {
+    AtStart,
+    AtEnd,
+    OverAll,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CmpOp {
+    Lt,
+    Le,
+    Eq,
+    Ge,
+    Gt,
+}
+
+impl CmpOp {
+    pub fn parse(s: &str) -> Option<CmpOp> {
+        Some(match s {
+            "<" => CmpOp::Lt,
+            "<=" => CmpOp::Le,
+            "=" => CmpOp::Eq,
+            ">=" => CmpOp::Ge,
+            ">" => CmpOp::Gt,
+            _ => return None,
+        })
+    }
+}
+
+/// A number, kept as written so that models compare exactly.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Number {
+    pub text: Box<str>,
+    pub span: TextRange,
+}
+
+impl Number {
+    pub fn value(&self) -> f64 {
+        self.text.parse().unwrap_or(f64::NAN)
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum NumExpr {
+    Number(Number),
+    Fluent(Fluent),
+    /// `+ - * /` with two or more operands (`-` with one is negation).
+    Op(Box<str>, Vec<NumExpr>, TextRange),
+    /// `?duration`.
+    Duration(TextRange),
+    /// `(duration t1)` in HDDL 2.1 method constraints.
+    TaskDuration(Name, TextRange),
+    /// `#t` (continuous change) and `total-time`.
+    Special(Box<str>, TextRange),
+    /// A variable used as a number (object fluents are not numbers; reported by checks).
+    Var(Name),
+}
+
+/// A goal description: preconditions, conditions, goals, constraints.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Gd {
+    Atom(Atom),
+    Equal(Term, Term, TextRange),
+    Compare(CmpOp, NumExpr, NumExpr, TextRange),
+    Not(Box<Gd>, TextRange),
+    And(Vec<Gd>, TextRange),
+    Or(Vec<Gd>, TextRange),
+    Imply(Box<Gd>, Box<Gd>, TextRange),
+    Forall(Vec<Typed>, Box<Gd>, TextRange),
+    Exists(Vec<Typed>, Box<Gd>, TextRange),
+    Timed(TimeSpec, Box<Gd>, TextRange),
+    /// `(preference name gd)` (PDDL 3).
+    Preference(Option<Name>, Box<Gd>, TextRange),
+    /// PDDL 3 / HDDL 2.1 modal constraints: `(always gd)`, `(at-most-once gd)`,
+    /// `(sometime-before a b)`, `(before t1 gd)`, … The operands that are goal
+    /// descriptions are kept; subtask ids in `ids`.
+    Modal(Box<str>, Vec<Gd>, Vec<Name>, TextRange),
+    /// An ordering constraint inside `:constraints` (`(< t1 t2)`).
+    Order(Ordering),
+    /// `(sortof ?x - t)`: pandaPIparser's type constraint on a variable.
+    Sortof(Term, TypeRef, TextRange),
+}
+
+/// Effects.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Effect {
+    Add(Atom),
+    Del(Atom, TextRange),
+    And(Vec<Effect>, TextRange),
+    Forall(Vec<Typed>, Box<Effect>, TextRange),
+    When(Gd, Box<Effect>, TextRange),
+    /// `(increase (f) e)`, `(assign …)`, …
+    Numeric(Box<str>, Fluent, NumExpr, TextRange),
+    /// `(assign (f) undefined)` and object-fluent assignment keep the target only.
+    Timed(TimeSpec, Box<Effect>, TextRange),
+}
+
+/// What kind of action-like item an [`Action`] is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ActionKind {
+    Action,
+    Durative,
+    Process,
+    Event,
+}
+
+/// `(:action …)`, `(:durative-action …)`, PDDL+ `(:process …)` / `(:event …)`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Action {
+    pub kind: ActionKind,
+    pub name: Name,
+    pub params: Vec<Typed>,
+    pub agent: Vec<Name>,
+    pub duration: Option<Gd>,
+    pub precondition: Option<Gd>,
+    pub effect: Option<Effect>,
+}
+
+/// `(:task …)`: an HDDL task, or a HiPOP abstract action with its own
+/// duration, condition, effect and conflicts.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Task {
+    pub name: Name,
+    pub params: Vec<Typed>,
+    pub agent: Vec<Name>,
+    pub duration: Option<Gd>,
+    pub precondition: Option<Gd>,
+    pub effect: Option<Effect>,
+    /// Atoms; variables that are not parameters are wildcards.
+    pub conflicts: Vec<Atom>,
+}
+
+/// `(name args…)` naming a task or an action.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct TaskCall {
+    pub name: Name,
+    pub args: Vec<Term>,
+    pub span: TextRange,
+}
+
+/// `(id (name args…))` or `(name args…)` in a task network.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Subtask {
+    pub id: Option<Name>,
+    pub call: TaskCall,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Endpoint {
+    Whole,
+    Start,
+    End,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct OrderPoint {
+    pub id: Name,
+    pub endpoint: Endpoint,
+}
+
+/// `(< t1 t2)`, `(t1 < t2)`, `(<= (end t1) (start t2))`, possibly negated.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Ordering {
+    pub op: CmpOp,
+    pub negated: bool,
+    pub left: OrderPoint,
+    pub right: OrderPoint,
+    pub span: TextRange,
+}
+
+/// A task network: subtasks, orderings and constraints.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
+pub struct TaskNetwork {
+    pub subtasks: Vec<Subtask>,
+    /// `:ordered-subtasks`: the subtasks are totally ordered as listed.
+    pub ordered: bool,
+    pub ordering: Vec<Ordering>,
+    pub constraints: Option<Gd>,
+    /// `:causal-links` (PANDA's hybrid format).
+    pub causal_links: Vec<CausalLink>,
+}
+
+/// `(t1 (p ?x) t2)`: `t1` produces `(p ?x)` for `t2`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct CausalLink {
+    pub from: Name,
+    pub atom: Atom,
+    pub negated: bool,
+    pub to: Name,
+}
+
+/// `(:method …)` or `(:durative-method …)`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Method {
+    pub durative: bool,
+    pub name: Name,
+    pub params: Vec<Typed>,
+    pub task: Option<TaskCall>,
+    pub precondition: Option<Gd>,
+    pub duration: Option<Gd>,
+    pub effect: Option<Effect>,
+    pub network: TaskNetwork,
+}
+
+/// `(pred ?x - t …)` in `:predicates`, or `(f ?x - t …) - number` in `:functions`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Signature {
+    pub name: Name,
+    pub params: Vec<Typed>,
+    /// For functions: `number` or an object type (object fluents).
+    pub result: TypeRef,
+    pub span: TextRange,
+}
+
+/// An element of `:init`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum InitElement {
+    Fact(Atom),
+    /// `(not (p))` in a closed-world initial state.
+    NotFact(Atom, TextRange),
+    /// `(= (f args) 3.5)`.
+    Assign(Fluent, NumExpr, TextRange),
+    /// `(= (f args) obj)` for object fluents.
+    AssignObject(Fluent, Name, TextRange),
+    /// `(at 10 (p))` / `(at 10 (not (p)))`: timed initial literal.
+    Timed(Number, Box<InitElement>, TextRange),
+}
+
+/// `(:htn …)` in a problem.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Htn {
+    pub params: Vec<Typed>,
+    pub network: TaskNetwork,
+    pub span: TextRange,
+}
+
+/// The meaning of one section of a `define`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum ItemData {
+    /// `(domain name)` or `(problem name)`.
+    Header(Name),
+    /// `(:domain name)` in a problem.
+    DomainRef(Name),
+    Requirements(Vec<Name>),
+    Types(Vec<Typed>),
+    Constants(Vec<Typed>),
+    Predicates(Vec<Signature>),
+    Functions(Vec<Signature>),
+    Action(Box<Action>),
+    Task(Box<Task>),
+    Method(Box<Method>),
+    /// `(:derived (p ?x) gd)`.
+    Derived(Atom, Vec<Typed>, Gd),
+    Objects(Vec<Typed>),
+    Init(Vec<InitElement>),
+    Goal(Gd),
+    Htn(Htn),
+    AllowedActions(Vec<Name>),
+    /// `(:metric minimize expr)`.
+    Metric(Name, NumExpr),
+    /// `(:constraints gd)` (PDDL 3).
+    Constraints(Gd),
+    /// Anything that could not be understood (already reported).
+    Unknown,
+}

@@ -1,0 +1,326 @@
+//! Symbol tables of a domain and of a problem, built from the lowered items.
+//!
+//! Locations are item-relative ([`Loc`]), so a table stays equal when text
+//! moves around it, and the checks that read it are not re-run.
+
+use rowan::TextRange;
+use rustc_hash::{FxHashMap, FxHashSet};
+
+use crate::db::{Db, Item, Unit, UnitKind, lower_item};
+use crate::model::{ActionKind, ItemData, TypeRef, Typed};
+
+/// A span inside an item.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, salsa::SalsaValue)]
+pub struct Loc<'db> {
+    pub item: Item<'db>,
+    pub span: TextRange,
+}
+
+/// The alternatives of a type annotation, lower-cased; `object` when implicit.
+pub type TypeSet = Vec<Box<str>>;
+
+pub fn type_set(t: &TypeRef) -> TypeSet {
+    match t {
+        TypeRef::Implicit => vec!["object".into()],
+        _ => t.names().iter().map(|n| n.key.clone()).collect(),
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
+pub struct TypeDecl<'db> {
+    pub parents: Vec<Box<str>>,
+    pub locs: Vec<Loc<'db>>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DeclKind {
+    Predicate,
+    Function,
+    Action(ActionKind),
+    Task,
+    Derived,
+}
+
+/// A predicate, function, action or task: its parameter types and where it is declared.
+#[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
+pub struct SigDecl<'db> {
+    pub kind: DeclKind,
+    pub params: Vec<TypeSet>,
+    /// Parameter names, for hover.
+    pub param_names: Vec<Box<str>>,
+    pub result: Option<TypeSet>,
+    pub loc: Loc<'db>,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
+pub struct ObjDecl<'db> {
+    pub ty: TypeSet,
+    pub loc: Loc<'db>,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
+pub struct MethodDecl<'db> {
+    pub task: Option<Box<str>>,
+    pub loc: Loc<'db>,
+}
+
+/// A second declaration of a name.
+#[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
+pub struct Duplicate<'db> {
+    pub what: &'static str,
+    pub name: Box<str>,
+    pub first: Loc<'db>,
+    pub again: Loc<'db>,
+}
+
+/// Everything a domain declares.
+#[derive(Debug, Clone, PartialEq, Eq, Default, salsa::SalsaValue)]
+pub struct DomainSymbols<'db> {
+    pub requirements: FxHashSet<Box<str>>,
+    pub has_types_section: bool,
+    pub types: FxHashMap<Box<str>, TypeDecl<'db>>,
+    /// Every declared type's ancestors (itself included, `object` last).
+    pub ancestors: FxHashMap<Box<str>, Vec<Box<str>>>,
+    pub constants: FxHashMap<Box<str>, ObjDecl<'db>>,
+    pub predicates: FxHashMap<Box<str>, SigDecl<'db>>,
+    pub functions: FxHashMap<Box<str>, SigDecl<'db>>,
+    pub actions: FxHashMap<Box<str>, SigDecl<'db>>,
+    pub tasks: FxHashMap<Box<str>, SigDecl<'db>>,
+    pub methods: FxHashMap<Box<str>, MethodDecl<'db>>,
+    pub duplicates: Vec<Duplicate<'db>>,
+    /// Types whose ancestry loops back to themselves.
+    pub cyclic_types: Vec<Box<str>>,
+}
+
+impl<'db> DomainSymbols<'db> {
+    pub fn is_type(&self, t: &str) -> bool {
+        t == "object" || t == "number" || self.types.contains_key(t)
+    }
+
+    /// Whether `sub` is `sup` or one of its subtypes.
+    pub fn is_subtype(&self, sub: &str, sup: &str) -> bool {
+        if sub == sup || sup == "object" {
+            return true;
+        }
+        self.ancestors.get(sub).is_some_and(|a| a.iter().any(|x| &**x == sup))
+    }
+
+    /// Whether every alternative of `arg` fits some alternative of `param`.
+    pub fn fits(&self, arg: &[Box<str>], param: &[Box<str>]) -> bool {
+        arg.iter()
+            .all(|a| !self.is_type(a) || param.iter().any(|p| !self.is_type(p) || self.is_subtype(a, p)))
+    }
+
+    /// Whether some object could have both types: every alternative of `arg`
+    /// fits `param`, or they have a common subtype (a variable of a supertype
+    /// narrows to the parameter's type).
+    pub fn compatible(&self, arg: &[Box<str>], param: &[Box<str>]) -> bool {
+        self.fits(arg, param)
+            || arg.iter().any(|a| {
+                param.iter().any(|p| {
+                    self.is_subtype(p, a)
+                        || self.types.keys().any(|t| self.is_subtype(t, a) && self.is_subtype(t, p))
+                })
+            })
+    }
+
+    /// An action or a task.
+    pub fn callable(&self, name: &str) -> Option<&SigDecl<'db>> {
+        self.actions.get(name).or_else(|| self.tasks.get(name))
+    }
+}
+
+fn sig<'db>(kind: DeclKind, params: &[Typed], result: Option<TypeSet>, loc: Loc<'db>) -> SigDecl<'db> {
+    SigDecl {
+        kind,
+        params: params.iter().map(|p| type_set(&p.ty)).collect(),
+        param_names: params.iter().map(|p| p.name.text.clone()).collect(),
+        result,
+        loc,
+    }
+}
+
+fn insert<'db, T>(
+    map: &mut FxHashMap<Box<str>, T>,
+    dups: &mut Vec<Duplicate<'db>>,
+    what: &'static str,
+    name: &str,
+    value: T,
+    loc_of: impl Fn(&T) -> Loc<'db>,
+) {
+    if let Some(first) = map.get(name) {
+        dups.push(Duplicate { what, name: name.into(), first: loc_of(first), again: loc_of(&value) });
+    } else {
+        map.insert(name.into(), value);
+    }
+}
+
+/// The symbol table of a domain unit.
+#[salsa::tracked(returns(ref))]
+pub fn domain_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> DomainSymbols<'db> {
+    let mut s = DomainSymbols::default();
+    if unit.kind(db) != UnitKind::Domain {
+        return s;
+    }
+    for &item in unit.items(db) {
+        let loc = |span| Loc { item, span };
+        match &lower_item(db, item).data {
+            ItemData::Requirements(reqs) => s.requirements.extend(reqs.iter().map(|r| r.key.clone())),
+            ItemData::Types(types) => {
+                s.has_types_section = true;
+                for t in types {
+                    let parents = match &t.ty {
+                        TypeRef::Implicit => Vec::new(),
+                        other => type_set(other),
+                    };
+                    match s.types.get_mut(&t.name.key) {
+                        // Declared twice: a warning (real files do it), parents merge.
+                        Some(decl) => {
+                            s.duplicates.push(Duplicate {
+                                what: "type",
+                                name: t.name.key.clone(),
+                                first: decl.locs[0],
+                                again: loc(t.name.span),
+                            });
+                            decl.parents.extend(parents);
+                            decl.locs.push(loc(t.name.span));
+                        }
+                        None => {
+                            s.types.insert(
+                                t.name.key.clone(),
+                                TypeDecl { parents, locs: vec![loc(t.name.span)] },
+                            );
+                        }
+                    }
+                }
+            }
+            ItemData::Constants(cs) => {
+                for c in cs {
+                    let value = ObjDecl { ty: type_set(&c.ty), loc: loc(c.name.span) };
+                    insert(&mut s.constants, &mut s.duplicates, "constant", &c.name.key, value, |d| d.loc);
+                }
+            }
+            ItemData::Predicates(ps) => {
+                for p in ps {
+                    let value = sig(DeclKind::Predicate, &p.params, None, loc(p.name.span));
+                    insert(&mut s.predicates, &mut s.duplicates, "predicate", &p.name.key, value, |d| d.loc);
+                }
+            }
+            ItemData::Functions(fs) => {
+                for f in fs {
+                    let result = match &f.result {
+                        TypeRef::Implicit => vec!["number".into()],
+                        other => type_set(other),
+                    };
+                    let value = sig(DeclKind::Function, &f.params, Some(result), loc(f.name.span));
+                    insert(&mut s.functions, &mut s.duplicates, "function", &f.name.key, value, |d| d.loc);
+                }
+            }
+            ItemData::Derived(atom, params, _) => {
+                let value = sig(DeclKind::Derived, params, None, loc(atom.pred.span));
+                // A derived predicate may be declared in `:predicates` too.
+                s.predicates.entry(atom.pred.key.clone()).or_insert(value);
+            }
+            ItemData::Action(a) => {
+                let value = sig(DeclKind::Action(a.kind), &a.params, None, loc(a.name.span));
+                if let Some(t) = s.tasks.get(&a.name.key) {
+                    let first = t.loc;
+                    s.duplicates.push(Duplicate {
+                        what: "action or task",
+                        name: a.name.key.clone(),
+                        first,
+                        again: value.loc,
+                    });
+                } else {
+                    insert(&mut s.actions, &mut s.duplicates, "action", &a.name.key, value, |d| d.loc);
+                }
+            }
+            ItemData::Task(t) => {
+                let value = sig(DeclKind::Task, &t.params, None, loc(t.name.span));
+                if let Some(a) = s.actions.get(&t.name.key) {
+                    let first = a.loc;
+                    s.duplicates.push(Duplicate {
+                        what: "action or task",
+                        name: t.name.key.clone(),
+                        first,
+                        again: value.loc,
+                    });
+                } else {
+                    insert(&mut s.tasks, &mut s.duplicates, "task", &t.name.key, value, |d| d.loc);
+                }
+            }
+            ItemData::Method(m) => {
+                let value =
+                    MethodDecl { task: m.task.as_ref().map(|t| t.name.key.clone()), loc: loc(m.name.span) };
+                insert(&mut s.methods, &mut s.duplicates, "method", &m.name.key, value, |d| d.loc);
+            }
+            _ => {}
+        }
+    }
+    // A type used as a parent is declared by that use (VAL and pandaPIparser agree).
+    let implicit: Vec<(Box<str>, Loc<'db>)> = s
+        .types
+        .values()
+        .flat_map(|d| d.parents.iter().map(move |p| (p.clone(), d.locs[0])))
+        .filter(|(p, _)| &**p != "object" && !s.types.contains_key(p))
+        .collect();
+    for (p, loc) in implicit {
+        s.types.entry(p).or_insert(TypeDecl { parents: Vec::new(), locs: vec![loc] });
+    }
+    // Ancestors, with cycle detection.
+    let names: Vec<Box<str>> = s.types.keys().cloned().collect();
+    for name in names {
+        let mut seen: Vec<Box<str>> = vec![name.clone()];
+        let mut stack: Vec<Box<str>> = s.types[&name].parents.clone();
+        let mut cyclic = false;
+        while let Some(t) = stack.pop() {
+            if t == name {
+                cyclic = true;
+                continue;
+            }
+            if seen.contains(&t) {
+                continue;
+            }
+            if let Some(d) = s.types.get(&t) {
+                stack.extend(d.parents.iter().cloned());
+            }
+            seen.push(t);
+        }
+        if !seen.iter().any(|t| &**t == "object") {
+            seen.push("object".into());
+        }
+        if cyclic {
+            s.cyclic_types.push(name.clone());
+        }
+        s.ancestors.insert(name, seen);
+    }
+    s.cyclic_types.sort();
+    s
+}
+
+/// What a problem declares.
+#[derive(Debug, Clone, PartialEq, Eq, Default, salsa::SalsaValue)]
+pub struct ProblemSymbols<'db> {
+    pub requirements: FxHashSet<Box<str>>,
+    pub objects: FxHashMap<Box<str>, ObjDecl<'db>>,
+    pub duplicates: Vec<Duplicate<'db>>,
+}
+
+/// The symbol table of a problem unit.
+#[salsa::tracked(returns(ref))]
+pub fn problem_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> ProblemSymbols<'db> {
+    let mut s = ProblemSymbols::default();
+    for &item in unit.items(db) {
+        match &lower_item(db, item).data {
+            ItemData::Requirements(reqs) => s.requirements.extend(reqs.iter().map(|r| r.key.clone())),
+            ItemData::Objects(objs) => {
+                for o in objs {
+                    let value = ObjDecl { ty: type_set(&o.ty), loc: Loc { item, span: o.name.span } };
+                    insert(&mut s.objects, &mut s.duplicates, "object", &o.name.key, value, |d| d.loc);
+                }
+            }
+            _ => {}
+        }
+    }
+    s
+}

@@ -1,0 +1,130 @@
+//! The lexer: splits text into tokens that cover every byte.
+
+use super::kind::SyntaxKind;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Token {
+    pub kind: SyntaxKind,
+    pub len: u32,
+}
+
+fn is_space(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c)
+}
+
+fn ends_atom(b: u8) -> bool {
+    is_space(b) || matches!(b, b'(' | b')' | b';')
+}
+
+/// Lexes `text` into tokens whose lengths add up to `text.len()`.
+pub fn lex(text: &str) -> Vec<Token> {
+    let bytes = text.as_bytes();
+    let mut tokens = Vec::with_capacity(bytes.len() / 4);
+    let mut i = 0;
+    while i < bytes.len() {
+        let start = i;
+        let kind = match bytes[i] {
+            b'(' => {
+                i += 1;
+                SyntaxKind::LParen
+            }
+            b')' => {
+                i += 1;
+                SyntaxKind::RParen
+            }
+            b';' => {
+                while i < bytes.len() && bytes[i] != b'\n' && bytes[i] != b'\r' {
+                    i += 1;
+                }
+                SyntaxKind::Comment
+            }
+            b if is_space(b) => {
+                while i < bytes.len() && is_space(bytes[i]) {
+                    i += 1;
+                }
+                SyntaxKind::Whitespace
+            }
+            _ => {
+                while i < bytes.len() && !ends_atom(bytes[i]) {
+                    i += 1;
+                }
+                classify_atom(&text[start..i])
+            }
+        };
+        tokens.push(Token { kind, len: (i - start) as u32 });
+    }
+    tokens
+}
+
+/// Classifies an atom by its first characters.
+pub fn classify_atom(atom: &str) -> SyntaxKind {
+    match atom.as_bytes() {
+        [b'?', ..] => SyntaxKind::Variable,
+        [b':', _, ..] => SyntaxKind::Keyword,
+        _ if is_number(atom) => SyntaxKind::Number,
+        _ => SyntaxKind::Symbol,
+    }
+}
+
+fn is_number(atom: &str) -> bool {
+    let digits = atom.strip_prefix('-').unwrap_or(atom);
+    let mut seen_digit = false;
+    let mut seen_dot = false;
+    for b in digits.bytes() {
+        match b {
+            b'0'..=b'9' => seen_digit = true,
+            b'.' if !seen_dot => seen_dot = true,
+            _ => return false,
+        }
+    }
+    seen_digit
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kinds(text: &str) -> Vec<(SyntaxKind, &str)> {
+        let mut at = 0;
+        lex(text)
+            .into_iter()
+            .map(|t| {
+                let s = &text[at..at + t.len as usize];
+                at += t.len as usize;
+                (t.kind, s)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn atoms_are_classified() {
+        use SyntaxKind::*;
+        assert_eq!(
+            kinds("(at-r ?r :agent 3.5 -2 - #t);c\n"),
+            vec![
+                (LParen, "("),
+                (Symbol, "at-r"),
+                (Whitespace, " "),
+                (Variable, "?r"),
+                (Whitespace, " "),
+                (Keyword, ":agent"),
+                (Whitespace, " "),
+                (Number, "3.5"),
+                (Whitespace, " "),
+                (Number, "-2"),
+                (Whitespace, " "),
+                (Symbol, "-"),
+                (Whitespace, " "),
+                (Symbol, "#t"),
+                (RParen, ")"),
+                (Comment, ";c"),
+                (Whitespace, "\n"),
+            ]
+        );
+    }
+
+    #[test]
+    fn non_ascii_is_part_of_atoms() {
+        assert_eq!(kinds("(été)")[1], (SyntaxKind::Symbol, "été"));
+    }
+}

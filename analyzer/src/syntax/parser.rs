@@ -1,0 +1,402 @@
+//! The s-expression parser with keyword-driven error recovery.
+//!
+//! Parsing never fails: every byte ends up in the tree, and a mistake yields a
+//! [`SyntaxError`]. Unbalanced parentheses are the only syntax errors at this
+//! level; the recovery uses what PDDL keywords tell about the intended nesting:
+//!
+//! - `(` followed by a section keyword (`(:action`, `(:init`, …) starts a new
+//!   item of the enclosing `define`: the lists still open inside that `define`
+//!   are missing their `)`, which is reported once, at the end of the last token
+//!   before the new item;
+//! - a field keyword (`:effect`, `:subtasks`, …) inside a formula of an item
+//!   belongs to the item: the formula is missing its `)`;
+//! - a `)` that would close an item right before one of its field keywords, or
+//!   a `define` right before a new section, is an extra `)`.
+
+use rowan::{GreenNode, GreenNodeBuilder, TextRange, TextSize};
+
+use super::kind::SyntaxKind;
+use super::lexer::{Token, lex};
+
+/// A syntax error: a span in the text and a one-line message.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct SyntaxError {
+    pub range: TextRange,
+    pub message: String,
+    /// The `(` that is not closed, for missing parentheses.
+    pub related: Option<(TextRange, String)>,
+}
+
+/// Heads of lists that are sections of a `define`.
+pub const SECTION_HEADS: &[&str] = &[
+    ":requirements",
+    ":types",
+    ":constants",
+    ":predicates",
+    ":functions",
+    ":action",
+    ":durative-action",
+    ":task",
+    ":method",
+    ":durative-method",
+    ":process",
+    ":event",
+    ":derived",
+    ":constraints",
+    ":domain",
+    ":objects",
+    ":init",
+    ":goal",
+    ":metric",
+    ":htn",
+    ":tihtn",
+    ":htnti",
+    ":allowed-actions",
+    ":tasks",
+];
+
+/// Heads of sections whose elements are `:field value` pairs.
+pub const ITEM_HEADS: &[&str] = &[
+    ":action",
+    ":durative-action",
+    ":task",
+    ":method",
+    ":durative-method",
+    ":process",
+    ":event",
+    ":htn",
+    ":tihtn",
+    ":htnti",
+];
+
+/// Field keywords of items.
+pub const FIELD_KEYWORDS: &[&str] = &[
+    ":parameters",
+    ":precondition",
+    ":effect",
+    ":duration",
+    ":condition",
+    ":agent",
+    ":conflicts",
+    ":task",
+    ":subtasks",
+    ":tasks",
+    ":ordered-subtasks",
+    ":ordered-tasks",
+    ":ordering",
+    ":order",
+    ":constraints",
+    ":causal-links",
+    ":causallinks",
+];
+
+fn is_in(set: &[&str], atom: &str) -> bool {
+    set.iter().any(|k| k.eq_ignore_ascii_case(atom))
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Category {
+    /// No significant token seen yet.
+    Unknown,
+    Define,
+    Item,
+    Other,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Frame {
+    category: Category,
+    /// The `(` and the head atom, for messages.
+    open: TextRange,
+    head: Option<TextRange>,
+    /// End of the last significant token inside this list.
+    last: TextRange,
+    /// Frames standing for the ancestors of a list being re-parsed alone.
+    virtual_: bool,
+}
+
+pub(crate) struct Parser<'t> {
+    text: &'t str,
+    tokens: Vec<Token>,
+    offsets: Vec<TextSize>,
+    pos: usize,
+    builder: GreenNodeBuilder<'static>,
+    stack: Vec<Frame>,
+    errors: Vec<SyntaxError>,
+    /// Set when a re-parse would have to touch an ancestor: the caller falls back to a full parse.
+    escaped: bool,
+}
+
+impl<'t> Parser<'t> {
+    pub(crate) fn new(text: &'t str) -> Self {
+        let tokens = lex(text);
+        let mut offsets = Vec::with_capacity(tokens.len() + 1);
+        let mut at = TextSize::from(0);
+        for t in &tokens {
+            offsets.push(at);
+            at += TextSize::from(t.len);
+        }
+        offsets.push(at);
+        Parser {
+            text,
+            tokens,
+            offsets,
+            pos: 0,
+            builder: GreenNodeBuilder::new(),
+            stack: Vec::new(),
+            errors: Vec::new(),
+            escaped: false,
+        }
+    }
+
+    fn range(&self, i: usize) -> TextRange {
+        TextRange::new(self.offsets[i], self.offsets[i + 1])
+    }
+
+    fn token_text(&self, i: usize) -> &'t str {
+        &self.text[self.range(i)]
+    }
+
+    fn next_significant(&self, from: usize) -> Option<usize> {
+        (from..self.tokens.len()).find(|&i| !self.tokens[i].kind.is_trivia())
+    }
+
+    fn bump(&mut self) {
+        let kind = self.tokens[self.pos].kind;
+        let text = self.token_text(self.pos);
+        self.builder.token(kind.into(), text);
+        self.pos += 1;
+    }
+
+    /// Whether the list starting at token `i` (a `(`) is a section of a `define`.
+    fn starts_section(&self, i: usize) -> bool {
+        self.next_significant(i + 1).is_some_and(|j| {
+            self.tokens[j].kind == SyntaxKind::Keyword && is_in(SECTION_HEADS, self.token_text(j))
+        })
+    }
+
+    fn head_text(&self, frame: &Frame) -> &'t str {
+        frame.head.map_or("", |r| &self.text[r])
+    }
+
+    /// Closes the open lists above `keep` (a stack length), reporting the missing `)` once.
+    fn close_missing(&mut self, keep: usize) {
+        if self.stack.len() <= keep {
+            return;
+        }
+        if self.stack[keep..].iter().any(|f| f.virtual_) {
+            self.escaped = true;
+        }
+        let innermost = *self.stack.last().expect("non-empty stack");
+        let outermost = self.stack[keep];
+        let count = self.stack.len() - keep;
+        let head = self.head_text(&innermost);
+        let what = if head.is_empty() { String::from("(") } else { format!("({head}") };
+        let message = if count == 1 {
+            format!("missing `)`: `{what}` is not closed")
+        } else {
+            format!("missing {count} `)`: `{what}` and the lists around it are not closed")
+        };
+        let outer_head = self.head_text(&outermost);
+        let related = (
+            outermost.open,
+            if outer_head.is_empty() {
+                "this `(` is not closed".to_string()
+            } else {
+                format!("this `({outer_head}` is not closed")
+            },
+        );
+        self.errors.push(SyntaxError { range: innermost.last, message, related: Some(related) });
+        while self.stack.len() > keep {
+            let frame = self.stack.pop().expect("non-empty stack");
+            if !frame.virtual_ {
+                self.builder.finish_node();
+            }
+        }
+    }
+
+    /// Parses tokens until the end, or until the stack is back to `stop` lists.
+    fn parse_tokens(&mut self, stop: Option<usize>) {
+        while self.pos < self.tokens.len() && !self.escaped {
+            if stop.is_some_and(|s| self.stack.len() == s) && self.pos > 0 {
+                return;
+            }
+            let kind = self.tokens[self.pos].kind;
+            match kind {
+                SyntaxKind::Whitespace | SyntaxKind::Comment => self.bump(),
+                SyntaxKind::LParen => {
+                    if self.starts_section(self.pos) {
+                        // A new section: it belongs directly to the innermost `define`.
+                        let keep = self
+                            .stack
+                            .iter()
+                            .rposition(|f| f.category == Category::Define)
+                            .map_or(0, |i| i + 1);
+                        self.close_missing(keep);
+                        if self.escaped {
+                            return;
+                        }
+                    }
+                    let open = self.range(self.pos);
+                    self.builder.start_node(SyntaxKind::List.into());
+                    self.bump();
+                    self.stack.push(Frame {
+                        category: Category::Unknown,
+                        open,
+                        head: None,
+                        last: open,
+                        virtual_: false,
+                    });
+                }
+                SyntaxKind::RParen => self.close_paren(),
+                _ => self.atom(),
+            }
+        }
+    }
+
+    fn atom(&mut self) {
+        let range = self.range(self.pos);
+        let text = self.token_text(self.pos);
+        let kind = self.tokens[self.pos].kind;
+        match self.stack.last().map(|f| f.category) {
+            Some(Category::Unknown) => {
+                let top = self.stack.last_mut().expect("non-empty stack");
+                top.head = Some(range);
+                top.category = if text.eq_ignore_ascii_case("define") {
+                    Category::Define
+                } else if kind == SyntaxKind::Keyword && is_in(ITEM_HEADS, text) {
+                    Category::Item
+                } else {
+                    Category::Other
+                };
+            }
+            Some(Category::Other) if kind == SyntaxKind::Keyword && is_in(FIELD_KEYWORDS, text) => {
+                // A field keyword inside a formula: the formula is missing its `)`.
+                let item = self.stack.iter().rposition(|f| f.category == Category::Item);
+                let define = self.stack.iter().rposition(|f| f.category == Category::Define);
+                if let Some(item) = item
+                    && define.is_none_or(|d| d < item)
+                {
+                    self.close_missing(item + 1);
+                    if self.escaped {
+                        return;
+                    }
+                }
+            }
+            _ => {}
+        }
+        if let Some(top) = self.stack.last_mut() {
+            top.last = range;
+        }
+        self.bump();
+    }
+
+    fn close_paren(&mut self) {
+        let range = self.range(self.pos);
+        let Some(top) = self.stack.last().copied() else {
+            self.extra_paren("unexpected `)`: there is no open `(` to close".to_string());
+            return;
+        };
+        if top.virtual_ {
+            self.escaped = true;
+            return;
+        }
+        let next = self.next_significant(self.pos + 1);
+        let extra = match (top.category, next) {
+            (Category::Item, Some(j)) => {
+                self.tokens[j].kind == SyntaxKind::Keyword && is_in(FIELD_KEYWORDS, self.token_text(j))
+            }
+            (Category::Define, Some(j)) => {
+                self.tokens[j].kind == SyntaxKind::LParen && self.starts_section(j)
+            }
+            _ => false,
+        };
+        if extra {
+            let what = self.head_text(&top);
+            self.extra_paren(format!("unexpected `)`: it closes `({what}` before its end, which follows"));
+            if let Some(top) = self.stack.last_mut() {
+                top.last = range;
+            }
+            return;
+        }
+        self.bump();
+        self.builder.finish_node();
+        self.stack.pop();
+        if let Some(parent) = self.stack.last_mut() {
+            parent.last = range;
+        }
+    }
+
+    fn extra_paren(&mut self, message: String) {
+        let range = self.range(self.pos);
+        self.builder.start_node(SyntaxKind::Error.into());
+        self.bump();
+        self.builder.finish_node();
+        self.errors.push(SyntaxError { range, message, related: None });
+    }
+
+    /// Parses a whole file.
+    pub(crate) fn parse_file(mut self) -> (GreenNode, Vec<SyntaxError>) {
+        self.builder.start_node(SyntaxKind::Root.into());
+        self.parse_tokens(None);
+        self.close_missing(0);
+        self.builder.finish_node();
+        (self.builder.finish(), self.errors)
+    }
+
+    /// Parses one list alone, inside ancestors of the given kinds (outermost first).
+    ///
+    /// Returns `None` when the text is not exactly one list, or when parsing it
+    /// would report an error or change its ancestors: then only a full parse is
+    /// equivalent.
+    pub(crate) fn parse_list_in(mut self, ancestors: &[AncestorKind]) -> Option<GreenNode> {
+        if self.tokens.first().map(|t| t.kind) != Some(SyntaxKind::LParen) {
+            return None;
+        }
+        let dummy = TextRange::empty(0.into());
+        for a in ancestors {
+            self.stack.push(Frame {
+                category: match a {
+                    AncestorKind::Define => Category::Define,
+                    AncestorKind::Item => Category::Item,
+                    AncestorKind::Other => Category::Other,
+                },
+                open: dummy,
+                head: None,
+                last: dummy,
+                virtual_: true,
+            });
+        }
+        let base = self.stack.len();
+        // The starting `(` must not itself start a section somewhere else.
+        if self.starts_section(0) && ancestors.last() != Some(&AncestorKind::Define) {
+            return None;
+        }
+        self.parse_tokens(Some(base));
+        if self.escaped
+            || !self.errors.is_empty()
+            || self.stack.len() != base
+            || self.pos != self.tokens.len()
+        {
+            return None;
+        }
+        let green = self.builder.finish();
+        (green.kind() == SyntaxKind::List.into()).then_some(green)
+    }
+}
+
+/// What an ancestor list of a re-parsed list is, as far as recovery cares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum AncestorKind {
+    Define,
+    Item,
+    Other,
+}
+
+pub(crate) fn ancestor_kind(head: Option<&str>) -> AncestorKind {
+    match head {
+        Some(h) if h.eq_ignore_ascii_case("define") => AncestorKind::Define,
+        Some(h) if is_in(ITEM_HEADS, h) => AncestorKind::Item,
+        _ => AncestorKind::Other,
+    }
+}

@@ -1,0 +1,128 @@
+use super::*;
+use proptest::prelude::*;
+
+fn errors(text: &str) -> Vec<String> {
+    let p = parse(text);
+    assert_eq!(p.text(), text, "parse must be lossless");
+    p.errors
+        .iter()
+        .map(|e| format!("{}..{}: {}", u32::from(e.range.start()), u32::from(e.range.end()), e.message))
+        .collect()
+}
+
+const DOMAIN: &str = "(define (domain d)
+  (:predicates (p ?x) (q ?x))
+  (:action a :parameters (?x) :precondition (and (p ?x)) :effect (q ?x))
+  (:action b :parameters (?x) :precondition (q ?x) :effect (p ?x)))
+";
+
+#[test]
+fn well_formed_file_has_no_error() {
+    assert!(errors(DOMAIN).is_empty());
+}
+
+#[test]
+fn missing_paren_before_next_item_is_reported_once() {
+    let text = DOMAIN.replace("(and (p ?x)) :effect (q ?x))", "(and (p ?x)) :effect (q ?x)");
+    let errs = errors(&text);
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert!(errs[0].contains("missing `)`: `(:action` is not closed"), "{errs:?}");
+    // The next action is still a separate item of the define.
+    let root = parse(&text).syntax();
+    let define = root.children().next().unwrap();
+    assert_eq!(define.children().count(), 4);
+}
+
+#[test]
+fn missing_paren_in_formula_before_field() {
+    let text = DOMAIN.replace("(and (p ?x)) :effect", "(and (p ?x) :effect");
+    let errs = errors(&text);
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert!(errs[0].contains("`(and` is not closed"), "{errs:?}");
+}
+
+#[test]
+fn extra_paren_before_field_is_reported_once() {
+    let text = DOMAIN.replace("(and (p ?x)) :effect", "(and (p ?x))) :effect");
+    let errs = errors(&text);
+    let at = text.find("))) :effect").unwrap() + 2;
+    assert_eq!(
+        errs,
+        vec![format!("{at}..{}: unexpected `)`: it closes `(:action` before its end, which follows", at + 1)]
+    );
+}
+
+#[test]
+fn extra_paren_closing_define_early() {
+    let text = DOMAIN.replace("(q ?x))\n  (:action b", "(q ?x)))\n  (:action b");
+    let errs = errors(&text);
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert!(errs[0].contains("closes `(define`"), "{errs:?}");
+}
+
+#[test]
+fn stray_paren_at_end_and_missing_at_eof() {
+    assert_eq!(errors("(a))"), vec!["3..4: unexpected `)`: there is no open `(` to close"]);
+    let errs = errors("(define (domain d)\n (:predicates (p))");
+    assert_eq!(errs.len(), 1);
+    assert!(errs[0].starts_with("36..37: missing `)`: `(define` is not closed"), "{errs:?}");
+}
+
+fn reparse_matches(text: &str, start: usize, end: usize, insert: &str) {
+    let old = parse(text);
+    let mut new_text = text.to_string();
+    let edit = TextEdit {
+        range: TextRange::new((start as u32).into(), (end as u32).into()),
+        insert: insert.to_string(),
+    };
+    edit.apply(&mut new_text);
+    let incremental = reparse(&old, &[edit], &new_text);
+    let full = parse(&new_text);
+    assert_eq!(incremental, full, "reparse differs from parse for {new_text:?}");
+}
+
+#[test]
+fn reparse_inside_one_list_shares_the_rest() {
+    let old = parse(DOMAIN);
+    let at = DOMAIN.find(":effect (q ?x)").unwrap() + 10;
+    let edit = TextEdit { range: TextRange::empty((at as u32).into()), insert: "x".into() };
+    let mut text = DOMAIN.to_string();
+    edit.apply(&mut text);
+    let new = reparse(&old, &[edit], &text);
+    assert_eq!(new, parse(&text));
+    // The predicates section is the same allocation in both trees.
+    let pred =
+        |p: &Parse| p.syntax().children().next().unwrap().children().nth(1).unwrap().green().into_owned();
+    let (a, b) = (pred(&old), pred(&new));
+    assert!(std::ptr::eq::<rowan::GreenNodeData>(&*a, &*b));
+}
+
+#[test]
+fn reparse_falls_back_when_structure_changes() {
+    let at = DOMAIN.find("(q ?x))\n").unwrap();
+    reparse_matches(DOMAIN, at + 6, at + 7, "");
+    reparse_matches(DOMAIN, at + 2, at + 2, "(");
+    reparse_matches(DOMAIN, at + 2, at + 2, ") :effect");
+    reparse_matches(DOMAIN, at + 2, at + 2, "(:action");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    #[test]
+    fn random_bytes_parse_losslessly(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
+        let text = String::from_utf8_lossy(&bytes).into_owned();
+        prop_assert_eq!(parse(&text).text(), text);
+    }
+
+    #[test]
+    fn random_sexps_parse_losslessly(text in "[() ;:?a-z\n-]{0,300}") {
+        prop_assert_eq!(parse(&text).text(), text);
+    }
+
+    #[test]
+    fn reparse_equals_parse(start in 0usize..DOMAIN.len(), len in 0usize..8, insert in "[() :a-z?]{0,6}") {
+        let end = (start + len).min(DOMAIN.len());
+        reparse_matches(DOMAIN, start, end, &insert);
+    }
+}

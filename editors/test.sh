@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Checks the editor integrations:
+#   - editors/helix/languages.toml parses as TOML (needs python3 >= 3.11)
+#   - editors/vscode: npm ci && npm run compile && npm test
+# Exits non-zero on any failure. Missing node/npm (or python3 >= 3.11) is
+# reported as SKIP and does not fail the run.
+set -euo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+
+echo "== editors: helix/languages.toml"
+if command -v python3 >/dev/null 2>&1 && python3 -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else 1)'; then
+  python3 - "$here/helix/languages.toml" <<'PY'
+import sys, tomllib
+path = sys.argv[1]
+with open(path, "rb") as f:
+    conf = tomllib.load(f)
+server = conf["language-server"]["hipop"]
+assert server["command"] == "hipop" and server["args"] == ["lsp"], server
+[lang] = [l for l in conf["language"] if l["name"] == "hipop-pddl"]
+assert lang["scope"] == "source.hipop-pddl", lang
+assert lang["file-types"] == ["pddl", "hddl"], lang
+assert lang["language-servers"] == ["hipop"], lang
+print(f"ok: {path} parses as TOML and declares hipop-pddl with the hipop server")
+PY
+else
+  echo "SKIP: python3 >= 3.11 (tomllib) not found; helix/languages.toml not validated"
+fi
+
+echo "== editors: vscode extension"
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  echo "SKIP: node/npm not found; VS Code extension not built or tested"
+  exit 0
+fi
+echo "node $(node --version), npm $(npm --version 2>/dev/null)"
+
+cd "$here/vscode"
+npm ci --no-audit --no-fund
+npm run compile
+npm test

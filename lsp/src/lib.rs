@@ -1,0 +1,1 @@
+//! The hipop language server.
