@@ -10,7 +10,7 @@ use salsa::Setter;
 
 use crate::db::{ReparseHint, RootDatabase, SourceFile, Workspace, parse};
 use crate::diagnostic::Diagnostic;
-use crate::syntax::TextEdit;
+use crate::syntax::{TextEdit, TextSize};
 
 /// A request was cancelled by a newer change.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -140,6 +140,31 @@ impl Analysis {
 
     pub fn diagnostics(&self, file: SourceFile) -> Cancellable<Vec<Diagnostic>> {
         self.with_db(|db| crate::semantics::file_diagnostics(db, file).clone())
+    }
+
+    pub fn document_symbols(&self, file: SourceFile) -> Cancellable<Vec<crate::ide::DocumentSymbol>> {
+        self.with_db(|db| crate::ide::document_symbols(db, file))
+    }
+
+    pub fn hover(&self, file: SourceFile, offset: TextSize) -> Cancellable<Option<crate::ide::HoverResult>> {
+        self.with_db(|db| crate::ide::hover(db, file, offset))
+    }
+
+    pub fn goto_definition(
+        &self,
+        file: SourceFile,
+        offset: TextSize,
+    ) -> Cancellable<Option<crate::ide::NavTarget>> {
+        self.with_db(|db| crate::ide::goto_definition(db, file, offset))
+    }
+
+    pub fn references(
+        &self,
+        file: SourceFile,
+        offset: TextSize,
+        include_declaration: bool,
+    ) -> Cancellable<Vec<crate::ide::NavTarget>> {
+        self.with_db(|db| crate::ide::references(db, file, offset, include_declaration))
     }
 
     pub fn file_text(&self, file: SourceFile) -> Cancellable<Arc<str>> {

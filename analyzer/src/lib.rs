@@ -7,6 +7,7 @@
 pub mod db;
 pub mod diagnostic;
 mod host;
+pub mod ide;
 pub mod model;
 pub mod semantics;
 pub mod syntax;

@@ -164,7 +164,8 @@ fn requirement_checks(db: &dyn Db, unit: Unit<'_>, out: &mut Vec<Diagnostic>) {
             {
                 continue;
             }
-            let message = format!("{} needs the requirement `{name}`", feature.what());
+            let message =
+                format!("`{name}` is not declared in `:requirements`, but this uses {}", feature.what());
             let mut d = at(db, codes::MISSING_REQUIREMENT, Loc { item, span }, message);
             if let Some(r) = req_item {
                 let (file, range) = (r.file(db), r.offset(db));

@@ -1,0 +1,142 @@
+//! The parser and the analysis never panic, whatever the input: random bytes,
+//! and random mutations of real files; and incremental re-parsing after an
+//! edit gives exactly what parsing from scratch gives.
+
+use std::path::Path;
+
+use hipop_analyzer::{AnalysisHost, TextEdit, TextRange, TextSize, syntax};
+use proptest::prelude::*;
+
+/// Real files to mutate: the samples (always here) and a few corpus files (when present).
+fn seeds() -> Vec<String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut paths = vec![
+        root.join("samples/rover-mission/domain.hddl"),
+        root.join("samples/rover-mission/problem.hddl"),
+        root.join("samples/transport-htn/domain.hddl"),
+    ];
+    let corpora = root.join("../shared/corpora");
+    for rel in [
+        "ipc2002-temporal/rovers-time-automatic/domain.pddl",
+        "ipc2002-temporal/zenotravel-time-automatic/domain.pddl",
+        "ipc2020-hddl/partial-order/Transport/domain.hddl",
+        "ipc2020-hddl/partial-order/Transport/pfile01.hddl",
+        "hddl2.1/satellite/domain.hddl",
+    ] {
+        paths.push(corpora.join(rel));
+    }
+    paths.iter().filter_map(|p| std::fs::read_to_string(p).ok()).collect()
+}
+
+const PIECES: &[&str] = &[
+    "(",
+    ")",
+    " ",
+    "\n",
+    ";",
+    ":effect",
+    ":action",
+    "(:action a",
+    "?x",
+    "and",
+    "not",
+    "-",
+    "é",
+    "(at start",
+    "=",
+    "0.5",
+];
+
+#[derive(Debug, Clone)]
+enum Mutation {
+    Delete(usize, usize),
+    Insert(usize, usize),
+    Duplicate(usize, usize, usize),
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    prop_oneof![
+        (any::<usize>(), 0usize..40).prop_map(|(a, n)| Mutation::Delete(a, n)),
+        (any::<usize>(), 0..PIECES.len()).prop_map(|(a, p)| Mutation::Insert(a, p)),
+        (any::<usize>(), 0usize..200, any::<usize>()).prop_map(|(a, n, b)| Mutation::Duplicate(a, n, b)),
+    ]
+}
+
+fn boundary(text: &str, mut at: usize) -> usize {
+    at %= text.len() + 1;
+    while !text.is_char_boundary(at) {
+        at -= 1;
+    }
+    at
+}
+
+/// The edit a mutation makes, as a range of the text and its replacement.
+fn as_edit(text: &str, m: &Mutation) -> TextEdit {
+    let (start, end, insert) = match *m {
+        Mutation::Delete(a, n) => {
+            let s = boundary(text, a);
+            (s, boundary(text, s + n.min(text.len() - s)), String::new())
+        }
+        Mutation::Insert(a, p) => {
+            let s = boundary(text, a);
+            (s, s, PIECES[p].to_string())
+        }
+        Mutation::Duplicate(a, n, b) => {
+            let s = boundary(text, a);
+            let e = boundary(text, s + n.min(text.len() - s));
+            let at = boundary(text, b);
+            (at, at, text[s..e].to_string())
+        }
+    };
+    TextEdit { range: TextRange::new(TextSize::from(start as u32), TextSize::from(end as u32)), insert }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..2000)) {
+        let text = String::from_utf8_lossy(&bytes).into_owned();
+        let mut host = AnalysisHost::new();
+        let f = host.set_file_text("x.pddl", text.clone());
+        let a = host.analysis();
+        a.diagnostics(f).unwrap();
+        a.document_symbols(f).unwrap();
+        prop_assert_eq!(syntax::parse(&text).text(), text);
+    }
+
+    #[test]
+    fn mutated_real_files_never_panic_and_reparse_exactly(
+        seed in 0usize..64,
+        mutations in proptest::collection::vec(mutation(), 1..6),
+        probes in proptest::collection::vec(any::<usize>(), 4),
+    ) {
+        let seeds = seeds();
+        let original = &seeds[seed % seeds.len()];
+        let mut incremental = AnalysisHost::new();
+        let f = incremental.set_file_text("d.hddl", original.clone());
+        incremental.analysis().diagnostics(f).unwrap();
+        let mut text = original.clone();
+        for m in &mutations {
+            let edit = as_edit(&text, m);
+            edit.apply(&mut text);
+            incremental.apply_edits("d.hddl", vec![edit]).unwrap();
+        }
+        prop_assert_eq!(syntax::parse(&text).text(), text.clone());
+        let mut scratch = AnalysisHost::new();
+        let g = scratch.set_file_text("d.hddl", text.clone());
+        let a = incremental.analysis();
+        let b = scratch.analysis();
+        let shown = |a: &hipop_analyzer::Analysis, f| {
+            a.diagnostics(f).unwrap().iter().map(|d| (d.code.id, d.range, d.message.clone())).collect::<Vec<_>>()
+        };
+        prop_assert_eq!(shown(&a, f), shown(&b, g));
+        for p in probes {
+            let at = TextSize::from(boundary(&text, p) as u32);
+            a.hover(f, at).unwrap();
+            a.goto_definition(f, at).unwrap();
+            a.references(f, at, true).unwrap();
+        }
+        a.document_symbols(f).unwrap();
+    }
+}

@@ -1,0 +1,125 @@
+//! Incrementality: salsa re-executes only what an edit can change.
+
+use std::sync::{Arc, Mutex};
+
+use hipop_analyzer::{AnalysisHost, TextEdit, TextRange, TextSize};
+
+const DOMAIN: &str = "(define (domain d)
+  (:requirements :typing)
+  (:types robot waypoint)
+  (:predicates (at-r ?r - robot ?w - waypoint) (seen ?w - waypoint))
+  ; Move between waypoints.
+  (:action move
+    :parameters (?r - robot ?a ?b - waypoint)
+    :precondition (at-r ?r ?a)
+    :effect (and (not (at-r ?r ?a)) (at-r ?r ?b)))
+  (:action look
+    :parameters (?r - robot ?w - waypoint)
+    :precondition (at-r ?r ?w)
+    :effect (seen ?w)) ; the end of look
+  (:action wait
+    :parameters (?r - robot ?w - waypoint)
+    :precondition (at-r ?r ?w)
+    :effect (at-r ?r ?w)))
+";
+
+/// A host that records which queries execute, and the log.
+fn host() -> (AnalysisHost, Arc<Mutex<Vec<String>>>) {
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let sink = log.clone();
+    let host = AnalysisHost::with_event_callback(Box::new(move |event| {
+        if let salsa::EventKind::WillExecute { database_key } = event.kind {
+            sink.lock().unwrap().push(format!("{database_key:?}"));
+        }
+    }));
+    (host, log)
+}
+
+fn executed(log: &Arc<Mutex<Vec<String>>>, query: &str) -> usize {
+    log.lock().unwrap().iter().filter(|e| e.starts_with(&format!("{query}("))).count()
+}
+
+fn edit_at(text: &str, needle: &str, delta: usize, remove: usize, insert: &str) -> TextEdit {
+    let at = text.find(needle).expect("needle in text") + delta;
+    TextEdit {
+        range: TextRange::at(TextSize::from(at as u32), TextSize::from(remove as u32)),
+        insert: insert.into(),
+    }
+}
+
+#[test]
+fn editing_one_action_rechecks_only_that_action() {
+    let (mut host, log) = host();
+    let file = host.set_file_text("d.pddl", DOMAIN);
+    let before = host.analysis().diagnostics(file).unwrap();
+    assert!(before.is_empty(), "{before:?}");
+    assert_eq!(executed(&log, "check_item"), 7, "first run checks every item: {:?}", log.lock().unwrap());
+    log.lock().unwrap().clear();
+
+    // Change the body of `look`: `(seen ?w)` becomes `(seen ?r)`, a type error.
+    host.apply_edits("d.pddl", vec![edit_at(DOMAIN, "(seen ?w)) ;", 6, 2, "?r")]).unwrap();
+    let after = host.analysis().diagnostics(file).unwrap();
+    assert_eq!(after.len(), 1);
+    assert_eq!(after[0].code.id, "E0111");
+    assert_eq!(executed(&log, "lower_item"), 1, "{:?}", log.lock().unwrap());
+    assert_eq!(executed(&log, "check_item"), 1, "{:?}", log.lock().unwrap());
+}
+
+#[test]
+fn editing_an_action_renaming_nothing_keeps_symbols_backdated() {
+    let (mut host, log) = host();
+    let file = host.set_file_text("d.pddl", DOMAIN);
+    host.analysis().diagnostics(file).unwrap();
+    log.lock().unwrap().clear();
+    // Inserting text in `move` shifts every later item: they keep their checks.
+    host.apply_edits("d.pddl", vec![edit_at(DOMAIN, "(at-r ?r ?b)))", 12, 0, " (seen ?b)")]).unwrap();
+    assert!(host.analysis().diagnostics(file).unwrap().is_empty());
+    assert_eq!(executed(&log, "check_item"), 1, "{:?}", log.lock().unwrap());
+    assert_eq!(executed(&log, "domain_symbols"), 1, "the table is recomputed, then backdated");
+}
+
+#[test]
+fn editing_a_comment_changes_no_semantic_result() {
+    let (mut host, log) = host();
+    let file = host.set_file_text("d.pddl", DOMAIN);
+    let before = host.analysis().diagnostics(file).unwrap();
+    log.lock().unwrap().clear();
+
+    // A comment between items: no item changes.
+    host.apply_edits("d.pddl", vec![edit_at(DOMAIN, "; Move between", 2, 4, "Drive")]).unwrap();
+    assert_eq!(host.analysis().diagnostics(file).unwrap(), before);
+    assert_eq!(executed(&log, "lower_item"), 0, "{:?}", log.lock().unwrap());
+    assert_eq!(executed(&log, "check_item"), 0, "{:?}", log.lock().unwrap());
+    log.lock().unwrap().clear();
+
+    // A comment at the end of an item: its syntax changes, its model does not.
+    let text = host.analysis().file_text(file).unwrap().to_string();
+    host.apply_edits("d.pddl", vec![edit_at(&text, "; the end of look", 6, 3, "END")]).unwrap();
+    assert_eq!(host.analysis().diagnostics(file).unwrap(), before);
+    assert_eq!(executed(&log, "check_item"), 0, "{:?}", log.lock().unwrap());
+    assert_eq!(executed(&log, "domain_symbols"), 0, "{:?}", log.lock().unwrap());
+}
+
+#[test]
+fn editing_one_init_fact_rechecks_one_chunk() {
+    let mut problem = String::from("(define (problem p) (:domain d)\n  (:objects r1 - robot");
+    for i in 0..500 {
+        problem.push_str(&format!(" w{i}"));
+    }
+    problem.push_str(" - waypoint)\n  (:init\n");
+    for i in 0..500 {
+        problem.push_str(&format!("    (at-r r1 w{i})\n"));
+    }
+    problem.push_str("  )\n  (:goal (seen w3)))\n");
+    let (mut host, log) = host();
+    host.set_file_text("d.pddl", DOMAIN);
+    let p = host.set_file_text("p.pddl", problem.clone());
+    let d = host.analysis().diagnostics(p).unwrap();
+    assert!(d.is_empty(), "{d:?}");
+    log.lock().unwrap().clear();
+
+    host.apply_edits("p.pddl", vec![edit_at(&problem, "(at-r r1 w250)", 9, 4, "w99")]).unwrap();
+    assert!(host.analysis().diagnostics(p).unwrap().is_empty());
+    assert_eq!(executed(&log, "check_item"), 1, "{:?}", log.lock().unwrap());
+    assert_eq!(executed(&log, "lower_item"), 1, "{:?}", log.lock().unwrap());
+}
