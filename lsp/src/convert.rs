@@ -1,0 +1,332 @@
+//! Every conversion between the analyzer's plain data (byte offsets) and
+//! `ls_types`. Keeping them in one module confines the LSP type library, whose
+//! 0.0.x releases may break, to one place.
+//!
+//! Results can point into other files than the one asked about (a problem's
+//! diagnostic relates to its domain; references span the domain and its
+//! problems), so ranges are converted with the text of the file they belong
+//! to, looked up through [`Files`].
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::rc::Rc;
+use std::sync::Arc;
+
+use hipop_analyzer::{Analysis, Cancellable, Severity, SourceFile, TextRange, codes, ide};
+use tower_lsp_server::ls_types as lsp;
+
+use crate::line_index::{Encoding, LineCol, LineIndex};
+
+/// The byte offset of an LSP position in `text`, clamped.
+pub(crate) fn offset(index: &LineIndex, text: &str, pos: lsp::Position, enc: Encoding) -> u32 {
+    index.offset(text, LineCol { line: pos.line, col: pos.character }, enc)
+}
+
+/// The LSP position of a byte offset in `text`.
+pub(crate) fn position(index: &LineIndex, text: &str, offset: u32, enc: Encoding) -> lsp::Position {
+    let lc = index.line_col(text, offset, enc);
+    lsp::Position::new(lc.line, lc.col)
+}
+
+pub(crate) fn encoding_kind(enc: Encoding) -> lsp::PositionEncodingKind {
+    match enc {
+        Encoding::Utf8 => lsp::PositionEncodingKind::UTF8,
+        Encoding::Utf16 => lsp::PositionEncodingKind::UTF16,
+        Encoding::Utf32 => lsp::PositionEncodingKind::UTF32,
+    }
+}
+
+/// The encoding to use with a client: UTF-8 when offered, because it is the
+/// analyzer's own unit, else UTF-16, which every client must support (UTF-32
+/// only for a client that offers it and not UTF-16). Offers come from LSP
+/// 3.17's `general.positionEncodings`, or else from clangd's older
+/// `offsetEncoding` extension.
+pub(crate) fn negotiate_encoding(caps: &lsp::ClientCapabilities) -> Encoding {
+    let standard = caps.general.as_ref().and_then(|g| g.position_encodings.as_deref());
+    let offered: Vec<&str> = match (standard, &caps.offset_encoding) {
+        (Some(offered), _) => offered.iter().map(|e| e.as_str()).collect(),
+        (None, Some(offered)) => offered.iter().map(String::as_str).collect(),
+        (None, None) => Vec::new(),
+    };
+    if offered.contains(&"utf-8") {
+        Encoding::Utf8
+    } else if offered.contains(&"utf-32") && !offered.contains(&"utf-16") {
+        Encoding::Utf32
+    } else {
+        Encoding::Utf16
+    }
+}
+
+/// The analyzer's name for a document: its path for a `file:` URI, else the URI itself.
+pub(crate) fn file_key(uri: &lsp::Uri) -> String {
+    if uri.as_str().starts_with("file:")
+        && let Some(path) = uri.to_file_path()
+    {
+        return path.to_string_lossy().into_owned();
+    }
+    uri.as_str().to_string()
+}
+
+/// The URI of a file the analyzer knows by `key`: the client's own spelling
+/// when the document is open, else one built from the path.
+pub(crate) fn key_uri(key: &str, open: &HashMap<String, lsp::Uri>) -> Option<lsp::Uri> {
+    if let Some(uri) = open.get(key) {
+        return Some(uri.clone());
+    }
+    if Path::new(key).is_absolute() { lsp::Uri::from_file_path(key) } else { key.parse().ok() }
+}
+
+/// One file's text and line index, as seen by a snapshot.
+pub(crate) struct FileInfo {
+    pub uri: Option<lsp::Uri>,
+    pub text: Arc<str>,
+    pub index: LineIndex,
+    pub enc: Encoding,
+}
+
+impl FileInfo {
+    pub(crate) fn offset(&self, pos: lsp::Position) -> u32 {
+        offset(&self.index, &self.text, pos, self.enc)
+    }
+
+    pub(crate) fn range(&self, range: TextRange) -> lsp::Range {
+        lsp::Range::new(
+            position(&self.index, &self.text, range.start().into(), self.enc),
+            position(&self.index, &self.text, range.end().into(), self.enc),
+        )
+    }
+
+    fn location(&self, range: TextRange) -> Option<lsp::Location> {
+        Some(lsp::Location::new(self.uri.clone()?, self.range(range)))
+    }
+}
+
+/// The files a request's results point into, each indexed once.
+pub(crate) struct Files<'a> {
+    analysis: &'a Analysis,
+    open: &'a HashMap<String, lsp::Uri>,
+    enc: Encoding,
+    cache: HashMap<SourceFile, Rc<FileInfo>>,
+}
+
+impl<'a> Files<'a> {
+    pub(crate) fn new(
+        analysis: &'a Analysis,
+        open: &'a HashMap<String, lsp::Uri>,
+        enc: Encoding,
+    ) -> Files<'a> {
+        Files { analysis, open, enc, cache: HashMap::new() }
+    }
+
+    pub(crate) fn get(&mut self, file: SourceFile) -> Cancellable<Rc<FileInfo>> {
+        if let Some(info) = self.cache.get(&file) {
+            return Ok(info.clone());
+        }
+        let text = self.analysis.file_text(file)?;
+        let uri = key_uri(&self.analysis.file_path(file)?, self.open);
+        let info = Rc::new(FileInfo { uri, index: LineIndex::new(&text), text, enc: self.enc });
+        self.cache.insert(file, info.clone());
+        Ok(info)
+    }
+
+    pub(crate) fn location(
+        &mut self,
+        file: SourceFile,
+        range: TextRange,
+    ) -> Cancellable<Option<lsp::Location>> {
+        Ok(self.get(file)?.location(range))
+    }
+}
+
+fn severity(s: Severity) -> lsp::DiagnosticSeverity {
+    match s {
+        Severity::Error => lsp::DiagnosticSeverity::ERROR,
+        Severity::Warning => lsp::DiagnosticSeverity::WARNING,
+        Severity::Info => lsp::DiagnosticSeverity::INFORMATION,
+    }
+}
+
+/// A diagnostic with its code (`E0102`), severity and related locations.
+pub(crate) fn diagnostic(
+    d: &hipop_analyzer::Diagnostic,
+    files: &mut Files<'_>,
+) -> Cancellable<lsp::Diagnostic> {
+    let mut related = Vec::new();
+    for r in &d.related {
+        if let Some(location) = files.location(r.file, r.range)? {
+            related.push(lsp::DiagnosticRelatedInformation { location, message: r.message.clone() });
+        }
+    }
+    // Compared by id: a `const` reference is not guaranteed one address.
+    let unused = d.code.id == codes::UNUSED.id;
+    Ok(lsp::Diagnostic {
+        range: files.get(d.file)?.range(d.range),
+        severity: Some(severity(d.severity)),
+        code: Some(lsp::NumberOrString::String(d.code.id.to_string())),
+        code_description: None,
+        source: Some("hipop".to_string()),
+        message: d.message.clone(),
+        related_information: (!related.is_empty()).then_some(related),
+        tags: unused.then(|| vec![lsp::DiagnosticTag::UNNECESSARY]),
+        data: None,
+    })
+}
+
+/// The quick fix of a diagnostic, if it has one whose files all have URIs.
+pub(crate) fn quick_fix(
+    d: &hipop_analyzer::Diagnostic,
+    files: &mut Files<'_>,
+) -> Cancellable<Option<lsp::CodeAction>> {
+    let Some(fix) = &d.fix else { return Ok(None) };
+    let mut changes: HashMap<lsp::Uri, Vec<lsp::TextEdit>> = HashMap::new();
+    for (file, range, insert) in &fix.edits {
+        let info = files.get(*file)?;
+        let Some(uri) = info.uri.clone() else { return Ok(None) };
+        changes.entry(uri).or_default().push(lsp::TextEdit::new(info.range(*range), insert.clone()));
+    }
+    Ok(Some(lsp::CodeAction {
+        title: fix.message.clone(),
+        kind: Some(lsp::CodeActionKind::QUICKFIX),
+        diagnostics: Some(vec![diagnostic(d, files)?]),
+        edit: Some(lsp::WorkspaceEdit { changes: Some(changes), ..lsp::WorkspaceEdit::default() }),
+        is_preferred: Some(true),
+        ..lsp::CodeAction::default()
+    }))
+}
+
+/// Symbol kinds: a predicate is a boolean state variable, a function a numeric
+/// one, an action is what executes, a task is abstract (methods implement it).
+fn symbol_kind(kind: ide::SymbolKind) -> lsp::SymbolKind {
+    use ide::SymbolKind as K;
+    match kind {
+        K::Domain => lsp::SymbolKind::MODULE,
+        K::Problem => lsp::SymbolKind::PACKAGE,
+        K::Section => lsp::SymbolKind::NAMESPACE,
+        K::Type => lsp::SymbolKind::CLASS,
+        K::Constant => lsp::SymbolKind::CONSTANT,
+        K::Object => lsp::SymbolKind::OBJECT,
+        K::Predicate => lsp::SymbolKind::BOOLEAN,
+        K::Function => lsp::SymbolKind::NUMBER,
+        K::Action => lsp::SymbolKind::FUNCTION,
+        K::Task => lsp::SymbolKind::INTERFACE,
+        K::Method => lsp::SymbolKind::METHOD,
+    }
+}
+
+/// An outline entry. Clients reject a selection range outside the full range,
+/// so such a selection is replaced by the range's start.
+pub(crate) fn document_symbol(s: &ide::DocumentSymbol, file: &FileInfo) -> lsp::DocumentSymbol {
+    let selection = if s.range.contains_range(s.selection_range) {
+        s.selection_range
+    } else {
+        TextRange::empty(s.range.start())
+    };
+    let children: Vec<lsp::DocumentSymbol> = s.children.iter().map(|c| document_symbol(c, file)).collect();
+    #[expect(deprecated, reason = "`deprecated` has no default and must be spelled out")]
+    lsp::DocumentSymbol {
+        name: if s.name.is_empty() { "?".to_string() } else { s.name.clone() },
+        detail: s.detail.clone(),
+        kind: symbol_kind(s.kind),
+        tags: None,
+        deprecated: None,
+        range: file.range(s.range),
+        selection_range: file.range(selection),
+        children: (!children.is_empty()).then_some(children),
+    }
+}
+
+pub(crate) fn hover(h: ide::HoverResult, file: &FileInfo) -> lsp::Hover {
+    lsp::Hover {
+        contents: lsp::HoverContents::Markup(lsp::MarkupContent {
+            kind: lsp::MarkupKind::Markdown,
+            value: h.markdown,
+        }),
+        range: Some(file.range(h.range)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use hipop_analyzer::AnalysisHost;
+    use tower_lsp_server::ls_types::{ClientCapabilities, GeneralClientCapabilities, Position, Range};
+
+    use super::*;
+
+    fn caps(standard: Option<&[&'static str]>, clangd: Option<&[&str]>) -> ClientCapabilities {
+        ClientCapabilities {
+            general: standard.map(|e| GeneralClientCapabilities {
+                position_encodings: Some(e.iter().map(|&k| lsp::PositionEncodingKind::from(k)).collect()),
+                ..GeneralClientCapabilities::default()
+            }),
+            offset_encoding: clangd.map(|e| e.iter().map(|k| k.to_string()).collect()),
+            ..ClientCapabilities::default()
+        }
+    }
+
+    #[test]
+    fn negotiation_prefers_utf8_then_utf16() {
+        assert_eq!(negotiate_encoding(&caps(None, None)), Encoding::Utf16);
+        assert_eq!(negotiate_encoding(&caps(Some(&["utf-16", "utf-8"]), None)), Encoding::Utf8);
+        assert_eq!(negotiate_encoding(&caps(Some(&["utf-32", "utf-16"]), None)), Encoding::Utf16);
+        assert_eq!(negotiate_encoding(&caps(Some(&["utf-32"]), None)), Encoding::Utf32);
+        assert_eq!(negotiate_encoding(&caps(None, Some(&["utf-8", "utf-16"]))), Encoding::Utf8);
+        // The standard field wins over the extension.
+        assert_eq!(negotiate_encoding(&caps(Some(&["utf-16"]), Some(&["utf-8"]))), Encoding::Utf16);
+    }
+
+    #[test]
+    fn keys_and_uris_round_trip() {
+        let uri: lsp::Uri = "file:///tmp/a%20b/domain.pddl".parse().unwrap();
+        assert_eq!(file_key(&uri), "/tmp/a b/domain.pddl");
+        let untitled: lsp::Uri = "untitled:Untitled-1".parse().unwrap();
+        assert_eq!(file_key(&untitled), "untitled:Untitled-1");
+        let none = HashMap::new();
+        assert_eq!(key_uri("untitled:Untitled-1", &none), Some(untitled));
+        assert_eq!(key_uri("/tmp/a b/domain.pddl", &none).unwrap().as_str(), "file:///tmp/a%20b/domain.pddl");
+        let open = HashMap::from([("/x.pddl".to_string(), "file:///x.pddl?spelled".parse().unwrap())]);
+        assert_eq!(key_uri("/x.pddl", &open).unwrap().as_str(), "file:///x.pddl?spelled");
+    }
+
+    const DOMAIN: &str = "(define (domain d)\n  (:predicates (p ?x)))\n";
+
+    /// A problem's diagnostic relates to its domain: converted with the domain's text.
+    #[test]
+    fn related_information_points_into_the_other_file() {
+        let mut host = AnalysisHost::new();
+        host.set_file_text("/w/domain.pddl", DOMAIN);
+        let problem = "(define (problem q) (:domain d)\n  ; été 😀\n  (:objects a) (:init (p a a)))\n";
+        let file = host.set_file_text("/w/problem.pddl", problem);
+        let analysis = host.analysis();
+        let diags = analysis.diagnostics(file).unwrap();
+        let arity = diags.iter().find(|d| d.code.id == "E0110").expect("an arity error");
+        let open = HashMap::new();
+        let mut files = Files::new(&analysis, &open, Encoding::Utf16);
+        let converted = diagnostic(arity, &mut files).unwrap();
+        assert_eq!(converted.code, Some(lsp::NumberOrString::String("E0110".into())));
+        assert_eq!(converted.severity, Some(lsp::DiagnosticSeverity::ERROR));
+        assert_eq!(converted.source.as_deref(), Some("hipop"));
+        assert_eq!(converted.range.start.line, 2);
+        let related = converted.related_information.expect("related information");
+        assert_eq!(related[0].location.uri.as_str(), "file:///w/domain.pddl");
+        assert_eq!(related[0].location.range, Range::new(Position::new(1, 16), Position::new(1, 17)));
+    }
+
+    #[test]
+    fn ranges_are_converted_in_the_negotiated_encoding() {
+        let mut host = AnalysisHost::new();
+        let text = "(define (domain d) (:predicates (p ?x))\n (:action a :parameters (?x)\n :precondition (and (é ?x) (p ?x))))\n";
+        let file = host.set_file_text("/w/d.pddl", text);
+        let analysis = host.analysis();
+        let diags = analysis.diagnostics(file).unwrap();
+        let undefined = diags.iter().find(|d| d.code.id == "E0102").expect("undefined predicate");
+        let open = HashMap::new();
+        let columns = |enc| {
+            let r = diagnostic(undefined, &mut Files::new(&analysis, &open, enc)).unwrap().range;
+            (r.start.line, r.start.character, r.end.character)
+        };
+        // `é` is one UTF-16 unit and code point, two UTF-8 bytes.
+        assert_eq!(columns(Encoding::Utf16), (2, 21, 22));
+        assert_eq!(columns(Encoding::Utf32), (2, 21, 22));
+        assert_eq!(columns(Encoding::Utf8), (2, 21, 23));
+    }
+}

@@ -1,0 +1,66 @@
+//! The requests, each computed on a snapshot (on a blocking thread, see
+//! `requests::run`): positions in, analyzer call, LSP results out.
+
+use hipop_analyzer::{Cancellable, TextRange};
+use tower_lsp_server::ls_types as lsp;
+
+use crate::convert;
+use crate::session::Snapshot;
+
+pub(crate) fn document_symbols(snap: &Snapshot) -> Cancellable<Option<lsp::DocumentSymbolResponse>> {
+    let file = snap.files().get(snap.file)?;
+    let symbols = snap.analysis.document_symbols(snap.file)?;
+    let symbols = symbols.iter().map(|s| convert::document_symbol(s, &file)).collect();
+    Ok(Some(lsp::DocumentSymbolResponse::Nested(symbols)))
+}
+
+pub(crate) fn hover(snap: &Snapshot, pos: lsp::Position) -> Cancellable<Option<lsp::Hover>> {
+    let file = snap.files().get(snap.file)?;
+    let hover = snap.analysis.hover(snap.file, file.offset(pos).into())?;
+    Ok(hover.map(|h| convert::hover(h, &file)))
+}
+
+pub(crate) fn definition(
+    snap: &Snapshot,
+    pos: lsp::Position,
+) -> Cancellable<Option<lsp::GotoDefinitionResponse>> {
+    let mut files = snap.files();
+    let offset = files.get(snap.file)?.offset(pos);
+    let Some(target) = snap.analysis.goto_definition(snap.file, offset.into())? else { return Ok(None) };
+    Ok(files.location(target.file, target.range)?.map(lsp::GotoDefinitionResponse::Scalar))
+}
+
+pub(crate) fn references(
+    snap: &Snapshot,
+    pos: lsp::Position,
+    include_declaration: bool,
+) -> Cancellable<Option<Vec<lsp::Location>>> {
+    let mut files = snap.files();
+    let offset = files.get(snap.file)?.offset(pos);
+    let mut locations = Vec::new();
+    for target in snap.analysis.references(snap.file, offset.into(), include_declaration)? {
+        locations.extend(files.location(target.file, target.range)?);
+    }
+    Ok(Some(locations))
+}
+
+/// The quick fixes of the diagnostics that touch `range`.
+pub(crate) fn code_actions(
+    snap: &Snapshot,
+    range: lsp::Range,
+) -> Cancellable<Option<lsp::CodeActionResponse>> {
+    let mut files = snap.files();
+    let file = files.get(snap.file)?;
+    let (a, b) = (file.offset(range.start), file.offset(range.end));
+    let wanted = TextRange::new(a.min(b).into(), a.max(b).into());
+    let mut actions = Vec::new();
+    for d in snap.analysis.diagnostics(snap.file)? {
+        if d.file == snap.file
+            && d.range.intersect(wanted).is_some()
+            && let Some(action) = convert::quick_fix(&d, &mut files)?
+        {
+            actions.push(lsp::CodeActionOrCommand::CodeAction(action));
+        }
+    }
+    Ok(Some(actions))
+}

@@ -1,0 +1,219 @@
+//! The `LanguageServer` implementation: thin handlers over the session,
+//! `features` and `diagnostics`.
+//!
+//! Notifications take the session lock as their first `.await`: tower-lsp-server
+//! polls handlers in arrival order and tokio's mutex is fair, so document
+//! changes apply in the order the client sent them.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use tokio::sync::Mutex;
+use tower_lsp_server::jsonrpc::Result;
+use tower_lsp_server::ls_types::*;
+use tower_lsp_server::{Client, LanguageServer};
+
+use crate::diagnostics::{self, When};
+use crate::requests::{self, Outcome, guarded};
+use crate::session::Session;
+use crate::workspace::{self, Scan};
+use crate::{capabilities, convert, features};
+
+pub(crate) struct Backend {
+    client: Client,
+    session: Arc<Mutex<Session>>,
+}
+
+impl Backend {
+    pub(crate) fn new(client: Client) -> Backend {
+        Backend { client, session: Arc::default() }
+    }
+
+    /// Changes the session in one critical section, panic-guarded, then
+    /// schedules diagnostics for the new state.
+    async fn mutate(
+        &self,
+        what: &str,
+        when: When,
+        f: impl FnOnce(&mut Session) -> std::result::Result<(), String>,
+    ) {
+        let result = {
+            let mut session = self.session.lock().await;
+            let result = match guarded(|| Ok(f(&mut session))) {
+                Outcome::Done(result) => result,
+                Outcome::Panicked(message) => Err(format!("hipop: {what} failed: {message}")),
+                Outcome::Cancelled => Ok(()),
+            };
+            diagnostics::schedule(&self.client, &self.session, session.generation(), when);
+            result
+        };
+        if let Err(message) = result {
+            self.client.log_message(MessageType::WARNING, message).await;
+        }
+    }
+
+    /// Reads folders from disk on a blocking thread, then loads them.
+    async fn load_folders(&self, roots: Vec<PathBuf>) {
+        if roots.is_empty() {
+            return;
+        }
+        let budget = self.session.lock().await.budget();
+        let read = tokio::task::spawn_blocking(move || {
+            let (mut budget, mut scan) = (budget, Scan::default());
+            for root in &roots {
+                workspace::scan(root, true, &mut budget, &mut scan);
+            }
+            (scan, budget)
+        });
+        let Ok((scan, budget)) = read.await else { return };
+        let count = scan.files.len();
+        self.mutate("loading the workspace", When::Now, |s| {
+            s.load(scan, budget);
+            Ok(())
+        })
+        .await;
+        let mut message = format!("hipop: loaded {count} PDDL/HDDL files");
+        if budget.exhausted {
+            message.push_str(" (stopped at the limit of 2000 files, 64 MB or 20000 folders)");
+        }
+        self.client.log_message(MessageType::INFO, message).await;
+    }
+}
+
+impl LanguageServer for Backend {
+    async fn initialize(&self, params: InitializeParams) -> Result<InitializeResult> {
+        let encoding = convert::negotiate_encoding(&params.capabilities);
+        let watch = params.capabilities.workspace.as_ref().and_then(|w| w.did_change_watched_files.as_ref());
+        let watch_files = watch.and_then(|w| w.dynamic_registration).unwrap_or(false);
+        self.session.lock().await.set_client(encoding, watch_files);
+        self.load_folders(workspace::roots(&params)).await;
+        Ok(InitializeResult {
+            capabilities: capabilities::server_capabilities(encoding),
+            server_info: Some(ServerInfo {
+                name: "hipop".to_string(),
+                version: Some(env!("CARGO_PKG_VERSION").to_string()),
+            }),
+            // Answers clangd's extension only to the clients that use it.
+            offset_encoding: params
+                .capabilities
+                .offset_encoding
+                .as_ref()
+                .map(|_| convert::encoding_kind(encoding).as_str().to_string()),
+        })
+    }
+
+    /// Asks the client to report changes of PDDL/HDDL files on disk, so that a
+    /// domain edited elsewhere (or by `git checkout`) is reread.
+    async fn initialized(&self, _: InitializedParams) {
+        if !self.session.lock().await.watch_files() {
+            return;
+        }
+        let options = DidChangeWatchedFilesRegistrationOptions {
+            watchers: vec![FileSystemWatcher {
+                glob_pattern: GlobPattern::String("**/*.{pddl,hddl}".to_string()),
+                kind: None,
+            }],
+        };
+        let registration = Registration {
+            id: "hipop-watched-files".to_string(),
+            method: "workspace/didChangeWatchedFiles".to_string(),
+            register_options: serde_json::to_value(options).ok(),
+        };
+        if let Err(e) = self.client.register_capability(vec![registration]).await {
+            self.client.log_message(MessageType::WARNING, format!("hipop: cannot watch files: {e}")).await;
+        }
+    }
+
+    async fn shutdown(&self) -> Result<()> {
+        Ok(())
+    }
+
+    async fn did_change_workspace_folders(&self, params: DidChangeWorkspaceFoldersParams) {
+        let removed: Vec<PathBuf> =
+            params.event.removed.iter().filter_map(|f| workspace::uri_path(&f.uri)).collect();
+        self.mutate("removing folders", When::Now, |s| {
+            removed.iter().for_each(|root| s.unload(root));
+            Ok(())
+        })
+        .await;
+        self.load_folders(params.event.added.iter().filter_map(|f| workspace::uri_path(&f.uri)).collect())
+            .await;
+    }
+
+    async fn did_change_watched_files(&self, params: DidChangeWatchedFilesParams) {
+        self.mutate("didChangeWatchedFiles", When::Now, |s| {
+            for change in &params.changes {
+                s.disk_changed(&change.uri, change.typ == FileChangeType::DELETED);
+            }
+            Ok(())
+        })
+        .await;
+    }
+
+    async fn did_open(&self, params: DidOpenTextDocumentParams) {
+        let doc = params.text_document;
+        self.mutate("didOpen", When::Now, |s| {
+            s.open(doc.uri, doc.version, doc.text);
+            Ok(())
+        })
+        .await;
+    }
+
+    async fn did_change(&self, params: DidChangeTextDocumentParams) {
+        let doc = params.text_document;
+        let changes = params.content_changes;
+        self.mutate("didChange", When::Debounced, |s| s.change(&doc.uri, doc.version, changes)).await;
+    }
+
+    async fn did_save(&self, _: DidSaveTextDocumentParams) {
+        let generation = self.session.lock().await.generation();
+        diagnostics::schedule(&self.client, &self.session, generation, When::NowForced);
+    }
+
+    async fn did_close(&self, params: DidCloseTextDocumentParams) {
+        let uri = params.text_document.uri;
+        self.mutate("didClose", When::Now, |s| {
+            s.close(&uri);
+            Ok(())
+        })
+        .await;
+        self.client.publish_diagnostics(uri, Vec::new(), None).await;
+    }
+
+    async fn document_symbol(&self, params: DocumentSymbolParams) -> Result<Option<DocumentSymbolResponse>> {
+        let uri = params.text_document.uri;
+        requests::run(&self.session, &uri, "documentSymbol", features::document_symbols).await
+    }
+
+    async fn hover(&self, params: HoverParams) -> Result<Option<Hover>> {
+        let at = params.text_document_position_params;
+        let pos = at.position;
+        requests::run(&self.session, &at.text_document.uri, "hover", move |s| features::hover(s, pos)).await
+    }
+
+    async fn goto_definition(&self, params: GotoDefinitionParams) -> Result<Option<GotoDefinitionResponse>> {
+        let at = params.text_document_position_params;
+        let pos = at.position;
+        let uri = &at.text_document.uri;
+        requests::run(&self.session, uri, "definition", move |s| features::definition(s, pos)).await
+    }
+
+    async fn references(&self, params: ReferenceParams) -> Result<Option<Vec<Location>>> {
+        let at = params.text_document_position;
+        let (pos, decl) = (at.position, params.context.include_declaration);
+        let uri = &at.text_document.uri;
+        requests::run(&self.session, uri, "references", move |s| features::references(s, pos, decl)).await
+    }
+
+    async fn code_action(&self, params: CodeActionParams) -> Result<Option<CodeActionResponse>> {
+        // Only quick fixes are offered; a client asking for other kinds gets none.
+        if let Some(only) = &params.context.only
+            && !only.iter().any(|k| CodeActionKind::QUICKFIX.as_str().starts_with(k.as_str()))
+        {
+            return Ok(Some(Vec::new()));
+        }
+        let range = params.range;
+        let uri = &params.text_document.uri;
+        requests::run(&self.session, uri, "codeAction", move |s| features::code_actions(s, range)).await
+    }
+}

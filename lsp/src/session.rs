@@ -1,0 +1,251 @@
+//! The server's state: the analysis host, the open documents and the
+//! negotiated encoding. It lives behind one `tokio::sync::Mutex`; every
+//! notification changes it in one synchronous critical section, so the
+//! analyzer's text always equals the documents' text.
+//!
+//! Every change bumps [`Session::generation`]; diagnostics computed for an
+//! older generation are dropped instead of published (see `diagnostics`).
+
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use hipop_analyzer::{Analysis, AnalysisHost, SourceFile};
+use tower_lsp_server::ls_types::{self as lsp, TextDocumentContentChangeEvent, Uri};
+
+use crate::convert::{Files, file_key};
+use crate::document::{Applied, Document};
+use crate::line_index::Encoding;
+use crate::workspace::{self, Budget, Scan};
+
+pub(crate) struct Session {
+    host: AnalysisHost,
+    docs: HashMap<Uri, Document>,
+    /// Analyzer key → the client's URI of each open document.
+    open: Arc<HashMap<String, Uri>>,
+    encoding: Encoding,
+    /// Whether the client can watch files for us (dynamic registration).
+    watch_files: bool,
+    generation: u64,
+    budget: Budget,
+    /// Folders already loaded from disk.
+    scanned: HashSet<PathBuf>,
+    /// What was last published per document, to skip identical re-publications.
+    published: HashMap<Uri, (i32, Vec<lsp::Diagnostic>)>,
+}
+
+/// A snapshot for one request about one file. It must not be held across an
+/// `.await` of a task that changes the session: a change waits for it to drop.
+pub(crate) struct Snapshot {
+    pub analysis: Analysis,
+    pub file: SourceFile,
+    pub encoding: Encoding,
+    pub open: Arc<HashMap<String, Uri>>,
+}
+
+impl Snapshot {
+    pub(crate) fn files(&self) -> Files<'_> {
+        Files::new(&self.analysis, &self.open, self.encoding)
+    }
+}
+
+/// What the diagnostics of all open documents need, taken under the lock.
+pub(crate) struct DiagnosticsJob {
+    pub analysis: Analysis,
+    pub docs: Vec<(Uri, i32, SourceFile)>,
+    pub encoding: Encoding,
+    pub open: Arc<HashMap<String, Uri>>,
+}
+
+impl Default for Session {
+    fn default() -> Session {
+        Session {
+            host: AnalysisHost::new(),
+            docs: HashMap::new(),
+            open: Arc::default(),
+            encoding: Encoding::Utf16,
+            watch_files: false,
+            generation: 0,
+            budget: Budget::default(),
+            scanned: HashSet::new(),
+            published: HashMap::new(),
+        }
+    }
+}
+
+impl Session {
+    pub(crate) fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// Records what was negotiated with the client at `initialize`.
+    pub(crate) fn set_client(&mut self, encoding: Encoding, watch_files: bool) {
+        self.encoding = encoding;
+        self.watch_files = watch_files;
+    }
+
+    pub(crate) fn watch_files(&self) -> bool {
+        self.watch_files
+    }
+
+    pub(crate) fn budget(&self) -> Budget {
+        self.budget
+    }
+
+    fn rebuild_open(&mut self) {
+        self.open = Arc::new(self.docs.iter().map(|(uri, d)| (d.key.clone(), uri.clone())).collect());
+    }
+
+    fn is_open(&self, key: &str) -> bool {
+        self.open.contains_key(key)
+    }
+
+    /// Loads files read from disk; open documents keep their editor text.
+    pub(crate) fn load(&mut self, scan: Scan, budget: Budget) {
+        self.budget = budget;
+        self.scanned.extend(scan.dirs);
+        for (key, text) in scan.files {
+            if !self.is_open(&key) {
+                self.host.set_file_text(&key, text);
+            }
+        }
+        self.generation += 1;
+    }
+
+    /// Forgets the files under a folder no longer in the workspace, unless open.
+    pub(crate) fn unload(&mut self, root: &Path) {
+        let gone: Vec<String> = self
+            .host
+            .files()
+            .map(|(key, _)| key.to_string())
+            .filter(|key| Path::new(key).starts_with(root) && !self.is_open(key))
+            .collect();
+        for key in gone {
+            self.host.remove_file(&key);
+        }
+        self.scanned.retain(|dir| !dir.starts_with(root));
+        self.generation += 1;
+    }
+
+    pub(crate) fn open(&mut self, uri: Uri, version: i32, text: String) {
+        let key = file_key(&uri);
+        self.load_folder_of(&key);
+        self.host.set_file_text(&key, text.as_str());
+        self.docs.insert(uri, Document::new(key, version, text));
+        self.rebuild_open();
+        self.generation += 1;
+    }
+
+    /// Loads the folder of a document opened outside the workspace, where its
+    /// domain or problems most likely are.
+    fn load_folder_of(&mut self, key: &str) {
+        let Some(dir) = Path::new(key).parent().filter(|d| d.is_absolute()) else { return };
+        if self.scanned.contains(dir) {
+            return;
+        }
+        let mut scan = Scan::default();
+        let mut budget = self.budget;
+        workspace::scan(dir, false, &mut budget, &mut scan);
+        scan.files.retain(|(k, _)| self.host.file(k).is_none());
+        self.load(scan, budget);
+    }
+
+    /// Applies a `didChange`. A version not newer than the current one is
+    /// rejected: applying it would desynchronize the text.
+    pub(crate) fn change(
+        &mut self,
+        uri: &Uri,
+        version: i32,
+        changes: Vec<TextDocumentContentChangeEvent>,
+    ) -> Result<(), String> {
+        let encoding = self.encoding;
+        let Some(doc) = self.docs.get_mut(uri) else {
+            return Err(format!("change to {} which is not open", uri.as_str()));
+        };
+        if version <= doc.version {
+            return Err(format!("ignored version {version} of {}: already at {}", uri.as_str(), doc.version));
+        }
+        doc.version = version;
+        let applied = doc.apply_changes(changes, encoding);
+        let synced = match applied {
+            Applied::Edits(edits) => {
+                self.host.apply_edits(&doc.key, edits).is_some_and(|t| *t == *doc.text())
+            }
+            Applied::Replaced => false,
+        };
+        if !synced {
+            self.host.set_file_text(&doc.key, doc.text());
+        }
+        self.generation += 1;
+        Ok(())
+    }
+
+    /// Closes a document: the analyzer goes back to the file on disk, if any.
+    pub(crate) fn close(&mut self, uri: &Uri) {
+        self.published.remove(uri);
+        let Some(doc) = self.docs.remove(uri) else { return };
+        self.rebuild_open();
+        match workspace::uri_path(uri).and_then(|p| std::fs::read_to_string(p).ok()) {
+            Some(text) => drop(self.host.set_file_text(&doc.key, text)),
+            None => self.host.remove_file(&doc.key),
+        }
+        self.generation += 1;
+    }
+
+    /// A file changed on disk: the analyzer rereads it, unless it is open
+    /// (the editor's text wins) or not PDDL/HDDL.
+    pub(crate) fn disk_changed(&mut self, uri: &Uri, deleted: bool) {
+        let Some(path) = workspace::uri_path(uri).filter(|p| workspace::is_source(p)) else { return };
+        let key = file_key(uri);
+        if self.is_open(&key) {
+            return;
+        }
+        match std::fs::read_to_string(&path) {
+            Ok(text) if !deleted => drop(self.host.set_file_text(&key, text)),
+            _ => self.host.remove_file(&key),
+        }
+        self.generation += 1;
+    }
+
+    /// A snapshot for a request about `uri`, open or loaded from disk.
+    pub(crate) fn snapshot(&self, uri: &Uri) -> Option<Snapshot> {
+        let file = self.host.file(&file_key(uri))?;
+        Some(Snapshot {
+            analysis: self.host.analysis(),
+            file,
+            encoding: self.encoding,
+            open: self.open.clone(),
+        })
+    }
+
+    pub(crate) fn diagnostics_job(&self) -> DiagnosticsJob {
+        let docs = self
+            .docs
+            .iter()
+            .filter_map(|(uri, d)| Some((uri.clone(), d.version, self.host.file(&d.key)?)))
+            .collect();
+        DiagnosticsJob {
+            analysis: self.host.analysis(),
+            docs,
+            encoding: self.encoding,
+            open: self.open.clone(),
+        }
+    }
+
+    /// Records a publication; false if it would repeat the last one.
+    pub(crate) fn record_published(&mut self, uri: &Uri, version: i32, diags: &[lsp::Diagnostic]) -> bool {
+        if self.docs.get(uri).is_none_or(|d| d.version != version) {
+            return false;
+        }
+        if self.published.get(uri).is_some_and(|(v, d)| *v == version && d == diags) {
+            return false;
+        }
+        self.published.insert(uri.clone(), (version, diags.to_vec()));
+        true
+    }
+
+    /// Forgets what was published, so that the next publication happens even if unchanged.
+    pub(crate) fn forget_published(&mut self) {
+        self.published.clear();
+    }
+}

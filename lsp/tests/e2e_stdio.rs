@@ -1,0 +1,358 @@
+//! End-to-end tests: spawn `hipop lsp` and speak JSON-RPC to it over stdio.
+
+mod common;
+
+use common::{Client, at, file_uri, fixture, range};
+use serde_json::{Value, json};
+
+fn read(rel: &str) -> (String, String) {
+    let path = fixture(rel);
+    (file_uri(&path), std::fs::read_to_string(&path).expect("fixture"))
+}
+
+fn codes(diags: &[Value]) -> Vec<&str> {
+    diags.iter().filter_map(|d| d["code"].as_str()).collect()
+}
+
+fn find<'a>(diags: &'a [Value], code: &str) -> &'a Value {
+    diags.iter().find(|d| d["code"] == code).unwrap_or_else(|| panic!("no {code} in {diags:#?}"))
+}
+
+/// initialize → didOpen → diagnostics → didChange → new diagnostics → hover →
+/// definition → references → symbols → shutdown.
+#[test]
+fn a_full_session() {
+    let mut client = Client::spawn();
+    let init = client.initialize(&fixture("blocks"), json!({}));
+    assert_eq!(init["serverInfo"]["name"], "hipop");
+    assert_eq!(init["capabilities"]["positionEncoding"], "utf-16");
+    assert_eq!(init["capabilities"]["textDocumentSync"]["change"], 2, "incremental sync");
+
+    let (uri, text) = read("blocks/domain.pddl");
+    client.open(&uri, &text);
+    let diags = client.diagnostics(&uri, Some(1));
+    // `held` is not unused: the problem, loaded from disk, uses it.
+    assert_eq!(codes(&diags), ["E0102"]);
+    let undefined = find(&diags, "E0102");
+    assert_eq!(undefined["range"], range(12, 18, 12, 25));
+    assert_eq!(undefined["severity"], 1);
+    assert_eq!(undefined["source"], "hipop");
+    assert_eq!(undefined["message"], "undefined predicate `holding`");
+
+    // Fix it: `holding` → `held`.
+    client.change(&uri, 2, range(12, 18, 12, 25), "held");
+    assert_eq!(client.diagnostics(&uri, Some(2)), Vec::<Value>::new());
+    // Saving publishes again, at once.
+    client.notify("textDocument/didSave", json!({"textDocument": {"uri": uri}}));
+    assert_eq!(client.diagnostics(&uri, Some(2)), Vec::<Value>::new());
+    assert_eq!(client.published_versions(&uri), [1, 2, 2]);
+
+    // Hover on the use of `on-table`: its signature and the comment above its declaration.
+    let hover = client.request("textDocument/hover", at(&uri, 11, 26));
+    let markdown = hover["contents"]["value"].as_str().expect("markdown hover");
+    assert_eq!(hover["contents"]["kind"], "markdown");
+    assert!(markdown.contains("predicate (on-table ?b - block)"), "{markdown}");
+    assert!(markdown.contains("The block lies on the table."), "{markdown}");
+    assert_eq!(hover["range"], range(11, 24, 11, 32));
+    // And on `clear`: the comment after its declaration.
+    let hover = client.request("textDocument/hover", at(&uri, 11, 39));
+    assert!(hover["contents"]["value"].as_str().unwrap_or("").contains("nothing is on top of ?b"), "{hover}");
+
+    let definition = client.request("textDocument/definition", at(&uri, 11, 26));
+    assert_eq!(definition, json!({"uri": uri, "range": range(6, 5, 6, 13)}));
+
+    // References span the domain and its problem, which was loaded from disk.
+    let refs = client.request(
+        "textDocument/references",
+        json!({"textDocument": {"uri": uri}, "position": {"line": 11, "character": 26}, "context": {"includeDeclaration": true}}),
+    );
+    let problem_uri = file_uri(&fixture("blocks/problem.pddl"));
+    let mut found: Vec<(String, Value)> = refs
+        .as_array()
+        .expect("locations")
+        .iter()
+        .map(|l| (l["uri"].as_str().unwrap_or("").to_string(), l["range"].clone()))
+        .collect();
+    found.sort_by_key(|(u, r)| (u.clone(), r["start"]["line"].as_i64()));
+    let expected = [
+        (uri.clone(), range(6, 5, 6, 13)),
+        (uri.clone(), range(11, 24, 11, 32)),
+        (uri.clone(), range(12, 33, 12, 41)),
+        (problem_uri, range(3, 10, 3, 18)),
+    ];
+    assert_eq!(found, expected);
+
+    let symbols = client.request("textDocument/documentSymbol", json!({"textDocument": {"uri": uri}}));
+    assert_eq!(symbols[0]["name"], "blocks");
+    let children: Vec<&str> = symbols[0]["children"]
+        .as_array()
+        .expect("children")
+        .iter()
+        .filter_map(|c| c["name"].as_str())
+        .collect();
+    assert!(children.contains(&"pick-up") && children.contains(&":predicates"), "{children:?}");
+
+    client.shutdown();
+}
+
+/// A position past the end of the document, or in a document the server does
+/// not know, is clamped or answered with nothing, never a crash.
+#[test]
+fn out_of_range_positions_and_unknown_documents() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    let (uri, text) = read("blocks/domain.pddl");
+    client.open(&uri, &text);
+    client.diagnostics(&uri, Some(1));
+    for (line, character) in [(999, 999), (0, 9999), (12, 4000), (u32::MAX, u32::MAX)] {
+        let response = client.request_raw("textDocument/hover", at(&uri, line, character));
+        assert!(response.get("error").is_none(), "{response}");
+        let response = client.request_raw("textDocument/definition", at(&uri, line, character));
+        assert!(response.get("error").is_none(), "{response}");
+    }
+    let unknown = "file:///nowhere/x.pddl";
+    assert_eq!(client.request("textDocument/hover", at(unknown, 0, 0)), Value::Null);
+    // A change out of range is clamped: appending after the end still works.
+    client.change(&uri, 2, range(400, 0, 400, 0), "\n; the end\n");
+    let diags = client.diagnostics(&uri, Some(2));
+    assert_eq!(codes(&diags), ["E0102"]);
+    // The server still answers.
+    assert!(client.request("textDocument/hover", at(&uri, 11, 26)).is_object());
+    client.shutdown();
+}
+
+/// Columns count UTF-16 units by default and bytes once UTF-8 is negotiated;
+/// incremental edits use the same unit.
+#[test]
+fn utf16_by_default_utf8_when_negotiated() {
+    let (uri, text) = read("unicode/domain.pddl");
+    // `    :effect (and (été ?x) (😀 ?x))))`: `été` is 3 UTF-16 units but 5 bytes; 😀 is 2 units, 4 bytes.
+    for (capabilities, encoding, start, end) in [
+        (json!({}), "utf-16", 27, 29),
+        (json!({"general": {"positionEncodings": ["utf-16", "utf-8"]}}), "utf-8", 29, 33),
+    ] {
+        let mut client = Client::spawn();
+        let init = client.initialize(&fixture("unicode"), capabilities);
+        assert_eq!(init["capabilities"]["positionEncoding"], encoding);
+        client.open(&uri, &text);
+        let diags = client.diagnostics(&uri, Some(1));
+        assert_eq!(find(&diags, "E0102")["range"], range(7, start, 7, end), "{encoding}");
+        assert_eq!(
+            find(&diags, "W0201")["tags"],
+            json!([1]),
+            "unused `prêt` is tagged unnecessary: {diags:#?}"
+        );
+        // Replace 😀 by `prêt`, in the negotiated unit.
+        client.change(&uri, 2, range(7, start, 7, end), "prêt");
+        assert_eq!(client.diagnostics(&uri, Some(2)), Vec::<Value>::new(), "{encoding}");
+        // Hover on `prêt`, just inserted after the non-ASCII `été`.
+        let hover = client.request("textDocument/hover", at(&uri, 7, start + 1));
+        assert!(hover["contents"]["value"].as_str().unwrap_or("").contains("predicate (prêt ?x)"), "{hover}");
+        assert_eq!(hover["range"]["start"]["character"], start);
+        client.shutdown();
+    }
+}
+
+/// A burst of changes: diagnostics come for the last version, versions never
+/// go back, and a change with an old version is rejected.
+#[test]
+fn stale_versions_are_never_published() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    let (uri, text) = read("blocks/domain.pddl");
+    client.open(&uri, &text);
+    client.diagnostics(&uri, Some(1));
+    // Type `held` over `holding` one keystroke at a time: h, he, hel, held...
+    let mut version = 1;
+    let target = "held";
+    for n in 1..=target.len() {
+        version += 1;
+        let end = if n == 1 { 25 } else { 18 + n as u32 - 1 };
+        client.change(&uri, version, range(12, 18, 12, end), &target[..n]);
+    }
+    assert_eq!(client.diagnostics(&uri, Some(version)), Vec::<Value>::new());
+    let versions = client.published_versions(&uri);
+    assert!(versions.windows(2).all(|w| w[0] <= w[1]), "versions went back: {versions:?}");
+    assert_eq!(versions.last(), Some(&version));
+
+    // An old version is ignored (and logged); the text stays the same.
+    client.change(&uri, 2, range(12, 18, 12, 22), "holding");
+    client.wait_for("a warning", |n| {
+        n["method"] == "window/logMessage"
+            && n["params"]["message"].as_str().unwrap_or("").contains("ignored version")
+    });
+    let definition = client.request("textDocument/definition", at(&uri, 12, 19));
+    assert_eq!(definition["range"], range(8, 5, 8, 9), "`held` is still there");
+    client.shutdown();
+}
+
+/// Editing a domain re-publishes the diagnostics of its open problems.
+#[test]
+fn a_problem_follows_its_domain() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    let (domain_uri, domain) = read("blocks/domain.pddl");
+    let (problem_uri, problem) = read("blocks/problem.pddl");
+    client.open(&problem_uri, &problem);
+    assert_eq!(client.diagnostics(&problem_uri, Some(1)), Vec::<Value>::new());
+    client.open(&domain_uri, &domain);
+    client.diagnostics(&domain_uri, Some(1));
+    // Rename the declaration of `held`: the problem's goal no longer resolves.
+    client.change(&domain_uri, 2, range(8, 5, 8, 9), "grasped");
+    let diags = client.diagnostics(&problem_uri, Some(1));
+    let undefined = find(&diags, "E0102");
+    assert_eq!(undefined["range"], range(4, 10, 4, 14));
+    client.shutdown();
+}
+
+/// A fix of the analyzer is offered as a quick fix; its related location is in another file.
+#[test]
+fn quick_fix_and_related_information() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    let uri = file_uri(&fixture("blocks/unsaved.pddl"));
+    client.open(&uri, "(define (problem p) (:domain blocs)\n  (:objects a - block)\n  (:init (clear a)) (:goal (held a)))\n");
+    let diags = client.diagnostics(&uri, Some(1));
+    let mismatch = find(&diags, "W0205");
+    assert_eq!(mismatch["range"], range(0, 29, 0, 34));
+    let related = &mismatch["relatedInformation"][0]["location"];
+    assert_eq!(related["uri"], file_uri(&fixture("blocks/domain.pddl")));
+    assert_eq!(related["range"], range(1, 16, 1, 22));
+
+    let actions = client.request(
+        "textDocument/codeAction",
+        json!({"textDocument": {"uri": uri}, "range": range(0, 30, 0, 30), "context": {"diagnostics": []}}),
+    );
+    let action = &actions[0];
+    assert_eq!(action["kind"], "quickfix");
+    assert_eq!(action["title"], "use domain `blocks`");
+    assert_eq!(action["edit"]["changes"][&uri], json!([{"range": range(0, 29, 0, 34), "newText": "blocks"}]));
+    let refactors = client.request(
+        "textDocument/codeAction",
+        json!({"textDocument": {"uri": uri}, "range": range(0, 30, 0, 30), "context": {"diagnostics": [], "only": ["refactor"]}}),
+    );
+    assert_eq!(refactors, json!([]));
+
+    // Closing clears the document's diagnostics.
+    client.notify("textDocument/didClose", json!({"textDocument": {"uri": uri}}));
+    client.wait_for("cleared diagnostics", |n| {
+        n["method"] == "textDocument/publishDiagnostics"
+            && n["params"]["uri"] == uri
+            && n["params"]["diagnostics"] == json!([])
+    });
+    client.shutdown();
+}
+
+/// A copy of the `blocks` fixture in a fresh folder, to change on disk.
+fn scratch_copy(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("hipop-lsp-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    for file in ["domain.pddl", "problem.pddl"] {
+        std::fs::copy(fixture("blocks").join(file), dir.join(file)).expect("copying a fixture");
+    }
+    dir
+}
+
+/// A domain changed or deleted on disk, reported by the client's file watcher,
+/// changes the diagnostics of its open problem.
+#[test]
+fn watched_files_are_reread() {
+    let dir = scratch_copy("watch");
+    let mut client = Client::spawn();
+    client.initialize(&dir, json!({"workspace": {"didChangeWatchedFiles": {"dynamicRegistration": true}}}));
+    let registration = client.wait_for("registerCapability", |m| m["method"] == "client/registerCapability");
+    let registered = &registration["params"]["registrations"][0];
+    assert_eq!(registered["method"], "workspace/didChangeWatchedFiles");
+    assert_eq!(registered["registerOptions"]["watchers"][0]["globPattern"], "**/*.{pddl,hddl}");
+
+    let problem = dir.join("problem.pddl");
+    let problem_uri = file_uri(&problem);
+    client.open(&problem_uri, &std::fs::read_to_string(&problem).expect("problem"));
+    assert_eq!(client.diagnostics(&problem_uri, Some(1)), Vec::<Value>::new());
+
+    let domain = dir.join("domain.pddl");
+    let text = std::fs::read_to_string(&domain).expect("domain");
+    std::fs::write(&domain, text.replace("(held ?b - block)", "(grasped ?b - block)")).expect("writing");
+    let changed = json!({"changes": [{"uri": file_uri(&domain), "type": 2}]});
+    client.notify("workspace/didChangeWatchedFiles", changed);
+    assert_eq!(codes(&client.diagnostics(&problem_uri, Some(1))), ["E0102"]);
+
+    std::fs::remove_file(&domain).expect("deleting");
+    client.notify(
+        "workspace/didChangeWatchedFiles",
+        json!({"changes": [{"uri": file_uri(&domain), "type": 3}]}),
+    );
+    assert_eq!(codes(&client.diagnostics(&problem_uri, Some(1))), ["E0114"]);
+    client.shutdown();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A workspace folder added later brings its domain; removed, takes it away.
+/// The problem is an unsaved buffer whose URI is not a file.
+#[test]
+fn workspace_folders_come_and_go() {
+    let empty = std::env::temp_dir().join(format!("hipop-lsp-empty-{}", std::process::id()));
+    std::fs::create_dir_all(&empty).expect("empty folder");
+    let mut client = Client::spawn();
+    client.initialize(&empty, json!({}));
+    let uri = "untitled:Untitled-1";
+    client.open(uri, "(define (problem p) (:domain blocks)\n  (:objects a - block)\n  (:init (clear a)) (:goal (held a)))\n");
+    assert_eq!(codes(&client.diagnostics(uri, Some(1))), ["E0114"]);
+
+    let folder = json!([{"uri": file_uri(&fixture("blocks")), "name": "blocks"}]);
+    client.notify("workspace/didChangeWorkspaceFolders", json!({"event": {"added": folder, "removed": []}}));
+    assert_eq!(client.diagnostics(uri, Some(1)), Vec::<Value>::new());
+    let definition = client.request("textDocument/definition", at(uri, 2, 29));
+    assert_eq!(definition["uri"], file_uri(&fixture("blocks/domain.pddl")));
+
+    client.notify("workspace/didChangeWorkspaceFolders", json!({"event": {"added": [], "removed": folder}}));
+    assert_eq!(codes(&client.diagnostics(uri, Some(1))), ["E0114"]);
+    client.shutdown();
+    let _ = std::fs::remove_dir_all(&empty);
+}
+
+/// Changes interleaved with requests on a large file: every request is
+/// answered (a result, or `ContentModified` when a change overtook it), the
+/// last version's diagnostics arrive, and nothing hangs.
+#[test]
+fn requests_racing_with_changes() {
+    let root = common::workspace_root().join("samples/surveillance");
+    let mut client = Client::spawn();
+    client.initialize(&root, json!({}));
+    let path = root.join("problem.pddl");
+    let uri = file_uri(&path);
+    client.open(&uri, &std::fs::read_to_string(&path).expect("sample"));
+    let mut pending = Vec::new();
+    let last = 41;
+    for version in 2..=last {
+        // Type a comment at the top, one character per change.
+        let col = (version - 2) as u32;
+        client.change(&uri, version, range(0, col, 0, col), if version == 2 { ";" } else { "x" });
+        // On the domain name in `(:domain surveillance)`.
+        pending.push(client.send_request("textDocument/hover", at(&uri, 11, 14)));
+        pending
+            .push(client.send_request("textDocument/documentSymbol", json!({"textDocument": {"uri": uri}})));
+        pending.push(client.send_request(
+            "textDocument/references",
+            json!({"textDocument": {"uri": uri}, "position": {"line": 11, "character": 14}, "context": {"includeDeclaration": true}}),
+        ));
+    }
+    let mut final_diagnostics = false;
+    while !pending.is_empty() || !final_diagnostics {
+        let message = client.recv();
+        if Client::is_response(&message) {
+            let id = message["id"].as_i64().expect("an id");
+            assert!(pending.contains(&id), "unexpected response {message}");
+            pending.retain(|&p| p != id);
+            if let Some(error) = message.get("error") {
+                assert_eq!(error["code"], -32801, "only ContentModified is acceptable: {message}");
+            }
+        } else if message["method"] == "textDocument/publishDiagnostics" && message["params"]["uri"] == uri {
+            final_diagnostics = message["params"]["version"] == last;
+        }
+    }
+    let versions = client.published_versions(&uri);
+    assert!(versions.windows(2).all(|w| w[0] <= w[1]), "versions went back: {versions:?}");
+    client.shutdown();
+}
