@@ -1,1 +1,95 @@
-fn main() {}
+//! `hipop`: a thin shell over the analyzer. Reads files, asks the analyzer,
+//! prints; all the language knowledge lives in `hipop-analyzer`.
+
+mod check;
+mod inputs;
+mod render;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+/// Check, plan and serve multi-robot missions written in extended HTN-PDDL
+/// (PDDL 2.1 temporal domains, HDDL hierarchical domains and the HiPOP extensions).
+#[derive(Debug, Parser)]
+#[command(name = "hipop", version, about, long_about = None, arg_required_else_help = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Check domains and problems: syntax, names, arities, types, requirements.
+    ///
+    /// Each problem is checked against its domain, found by `(:domain name)` among
+    /// the files given (a domain in the same folder is preferred).
+    ///
+    /// Exit status: 0 when no error is found (and no warning with `--deny warnings`),
+    /// 1 when some are, 2 on a usage or I/O error (bad path, unreadable or non-UTF-8 file).
+    Check(CheckArgs),
+    /// Run the language server on standard input and output (for editors).
+    Lsp,
+}
+
+#[derive(Debug, clap::Args)]
+struct CheckArgs {
+    /// Files or folders to check; folders are searched for `.pddl` and `.hddl` files.
+    #[arg(default_value = ".")]
+    paths: Vec<std::path::PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    format: Format,
+    /// Treat warnings as errors for the exit status.
+    #[arg(long, value_enum)]
+    deny: Option<Deny>,
+    /// When to use colours in human output.
+    #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
+    color: ColorWhen,
+}
+
+/// How diagnostics are printed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// Compiler-style messages with source excerpts.
+    Human,
+    /// One JSON document (schema in docs/cli.md).
+    Json,
+    /// SARIF 2.1.0, for GitHub code scanning.
+    Sarif,
+    /// GitHub Actions workflow annotations.
+    Github,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Deny {
+    Warnings,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ColorWhen {
+    Auto,
+    Always,
+    Never,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Check(args) => {
+            let options = check::Options {
+                format: args.format,
+                deny_warnings: args.deny == Some(Deny::Warnings),
+                color: args.color,
+            };
+            ExitCode::from(check::run(&args.paths, &options))
+        }
+        Command::Lsp => match hipop_lsp::run_stdio() {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("hipop lsp: {e}");
+                ExitCode::from(2)
+            }
+        },
+    }
+}

@@ -1,0 +1,54 @@
+//! `hipop check`.
+
+use hipop_analyzer::{AnalysisHost, Diagnostic, Severity};
+
+use crate::inputs::{Input, collect};
+use crate::render::{Rendered, Sources};
+use crate::{ColorWhen, Format};
+
+pub struct Options {
+    pub format: Format,
+    pub deny_warnings: bool,
+    pub color: ColorWhen,
+}
+
+/// Checks the files and prints the diagnostics; returns the exit status.
+pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
+    let inputs = collect(paths);
+    let mut host = AnalysisHost::new();
+    let mut io_errors = Vec::new();
+    let mut files = Vec::new();
+    for input in inputs {
+        match input {
+            Input::File { path, text } => files.push(host.set_file_text(&path, text)),
+            Input::Problem { path, message } => io_errors.push((path, message)),
+        }
+    }
+    let analysis = host.analysis();
+    let mut diagnostics: Vec<Diagnostic> = Vec::new();
+    for &f in &files {
+        match analysis.diagnostics(f) {
+            Ok(d) => diagnostics.extend(d),
+            // Nothing writes to the database while the CLI reads it.
+            Err(_) => unreachable!("no change can cancel the CLI's analysis"),
+        }
+    }
+    let sources = Sources::new(&analysis, &files);
+    let rendered =
+        Rendered { sources: &sources, diagnostics: &diagnostics, io_errors: &io_errors, files: files.len() };
+    match options.format {
+        Format::Human => rendered.human(options.color),
+        Format::Json => rendered.json(),
+        Format::Sarif => rendered.sarif(),
+        Format::Github => rendered.github(),
+    }
+    let errors = diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
+    let warnings = diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
+    if !io_errors.is_empty() {
+        2
+    } else if errors > 0 || (options.deny_warnings && warnings > 0) {
+        1
+    } else {
+        0
+    }
+}

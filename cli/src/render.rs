@@ -1,0 +1,311 @@
+//! Printing diagnostics: human (codespan-reporting), JSON, SARIF 2.1.0, GitHub annotations.
+
+use std::collections::HashMap;
+use std::io::Write;
+
+use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label, Severity as CsSeverity};
+use codespan_reporting::files::SimpleFiles;
+use codespan_reporting::term::{
+    self,
+    termcolor::{ColorChoice, StandardStream},
+};
+use hipop_analyzer::{Analysis, Diagnostic, Severity, SourceFile, TextRange, codes};
+use serde_json::{Value, json};
+
+use crate::ColorWhen;
+
+/// The texts of the files, with line starts for line/column conversion.
+pub struct Sources {
+    files: SimpleFiles<String, std::sync::Arc<str>>,
+    ids: HashMap<SourceFile, usize>,
+    paths: Vec<String>,
+    line_starts: Vec<Vec<usize>>,
+}
+
+impl Sources {
+    pub fn new(analysis: &Analysis, files: &[SourceFile]) -> Sources {
+        let mut s = Sources {
+            files: SimpleFiles::new(),
+            ids: HashMap::new(),
+            paths: Vec::new(),
+            line_starts: Vec::new(),
+        };
+        for &f in files {
+            let (Ok(path), Ok(text)) = (analysis.file_path(f), analysis.file_text(f)) else { continue };
+            let starts = std::iter::once(0).chain(text.match_indices('\n').map(|(i, _)| i + 1)).collect();
+            let id = s.files.add(path.clone(), text);
+            s.ids.insert(f, id);
+            s.paths.push(path);
+            s.line_starts.push(starts);
+        }
+        s
+    }
+
+    fn id(&self, file: SourceFile) -> Option<usize> {
+        self.ids.get(&file).copied()
+    }
+
+    fn path(&self, file: SourceFile) -> String {
+        self.id(file).map(|i| self.paths[i].clone()).unwrap_or_default()
+    }
+
+    fn text(&self, id: usize) -> &str {
+        self.files.get(id).map(|f| f.source().as_ref()).unwrap_or("")
+    }
+
+    /// 1-based line and column (in characters) of a byte offset.
+    fn line_col(&self, id: usize, offset: usize) -> (usize, usize) {
+        let starts = &self.line_starts[id];
+        let line = starts.partition_point(|&s| s <= offset).saturating_sub(1);
+        let text = self.text(id);
+        let offset = offset.min(text.len());
+        let col = text.get(starts[line]..offset).map_or(0, |s| s.chars().count());
+        (line + 1, col + 1)
+    }
+}
+
+pub struct Rendered<'a> {
+    pub sources: &'a Sources,
+    pub diagnostics: &'a [Diagnostic],
+    pub io_errors: &'a [(String, String)],
+    pub files: usize,
+}
+
+impl Rendered<'_> {
+    fn path(&self, file: SourceFile) -> String {
+        self.sources.path(file)
+    }
+
+    fn counts(&self) -> (usize, usize) {
+        let e = self.diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
+        let w = self.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
+        (e, w)
+    }
+
+    pub fn human(&self, color: ColorWhen) {
+        let choice = match color {
+            ColorWhen::Always => ColorChoice::Always,
+            ColorWhen::Never => ColorChoice::Never,
+            ColorWhen::Auto => {
+                if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+                    ColorChoice::Auto
+                } else {
+                    ColorChoice::Never
+                }
+            }
+        };
+        let stream = StandardStream::stderr(choice);
+        let mut out = stream.lock();
+        let config = term::Config::default();
+        for (path, message) in self.io_errors {
+            let _ = writeln!(out, "error: {path}: {message}");
+        }
+        for d in self.diagnostics {
+            if let Some(cs) = self.to_codespan(d) {
+                let _ = term::emit_to_write_style(&mut out, &config, &self.sources.files, &cs);
+            }
+        }
+        let (e, w) = self.counts();
+        let _ = writeln!(
+            out,
+            "checked {} file{}: {e} error{}, {w} warning{}",
+            self.files,
+            if self.files == 1 { "" } else { "s" },
+            if e == 1 { "" } else { "s" },
+            if w == 1 { "" } else { "s" }
+        );
+    }
+
+    fn to_codespan(&self, d: &Diagnostic) -> Option<CsDiagnostic<usize>> {
+        let id = self.sources.id(d.file)?;
+        let severity = match d.severity {
+            Severity::Error => CsSeverity::Error,
+            Severity::Warning => CsSeverity::Warning,
+            Severity::Info => CsSeverity::Note,
+        };
+        let mut labels = vec![Label::primary(id, range(d.range))];
+        for r in &d.related {
+            if let Some(rid) = self.sources.id(r.file) {
+                labels.push(Label::secondary(rid, range(r.range)).with_message(r.message.clone()));
+            }
+        }
+        let mut notes = vec![format!("{}: {}", d.code.id, d.code.name)];
+        if let Some(fix) = &d.fix {
+            notes.push(format!("help: {}", fix.message));
+        }
+        Some(
+            CsDiagnostic::new(severity)
+                .with_message(&d.message)
+                .with_code(d.code.id)
+                .with_labels(labels)
+                .with_notes(notes),
+        )
+    }
+
+    fn location(&self, file: SourceFile, r: TextRange) -> Value {
+        let path = self.path(file);
+        let Some(id) = self.sources.id(file) else { return json!({ "file": path }) };
+        let (l1, c1) = self.sources.line_col(id, usize::from(r.start()));
+        let (l2, c2) = self.sources.line_col(id, usize::from(r.end()));
+        json!({
+            "file": path,
+            "start": { "line": l1, "column": c1, "offset": u32::from(r.start()) },
+            "end": { "line": l2, "column": c2, "offset": u32::from(r.end()) },
+        })
+    }
+
+    pub fn json(&self) {
+        let diags: Vec<Value> = self
+            .diagnostics
+            .iter()
+            .map(|d| {
+                json!({
+                    "code": d.code.id,
+                    "name": d.code.name,
+                    "severity": d.severity.as_str(),
+                    "message": d.message,
+                    "location": self.location(d.file, d.range),
+                    "related": d.related.iter().map(|r| json!({
+                        "message": r.message,
+                        "location": self.location(r.file, r.range),
+                    })).collect::<Vec<_>>(),
+                    "fix": d.fix.as_ref().map(|f| json!({
+                        "message": f.message,
+                        "edits": f.edits.iter().map(|(file, r, text)| json!({
+                            "location": self.location(*file, *r),
+                            "insert": text,
+                        })).collect::<Vec<_>>(),
+                    })),
+                })
+            })
+            .collect();
+        let (e, w) = self.counts();
+        let doc = json!({
+            "version": 1,
+            "diagnostics": diags,
+            "io_errors": self.io_errors.iter().map(|(p, m)| json!({"path": p, "message": m})).collect::<Vec<_>>(),
+            "summary": { "files": self.files, "errors": e, "warnings": w },
+        });
+        println!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
+    }
+
+    fn sarif_region(&self, file: SourceFile, r: TextRange) -> Value {
+        let path = self.path(file);
+        let Some(id) = self.sources.id(file) else { return json!({}) };
+        let (l1, c1) = self.sources.line_col(id, usize::from(r.start()));
+        let (l2, c2) = self.sources.line_col(id, usize::from(r.end()));
+        json!({
+            "artifactLocation": { "uri": sarif_uri(&path) },
+            "region": { "startLine": l1, "startColumn": c1, "endLine": l2, "endColumn": c2,
+                        "charOffset": u32::from(r.start()), "charLength": u32::from(r.len()) },
+        })
+    }
+
+    pub fn sarif(&self) {
+        let rules: Vec<Value> = codes::ALL
+            .iter()
+            .map(|c| {
+                json!({
+                    "id": c.id,
+                    "name": c.name,
+                    "shortDescription": { "text": c.summary },
+                    "defaultConfiguration": { "level": sarif_level(c.severity) },
+                })
+            })
+            .collect();
+        let results: Vec<Value> = self
+            .diagnostics
+            .iter()
+            .map(|d| {
+                let rule_index = codes::ALL.iter().position(|c| c.id == d.code.id).unwrap_or(0);
+                json!({
+                    "ruleId": d.code.id,
+                    "ruleIndex": rule_index,
+                    "level": sarif_level(d.severity),
+                    "message": { "text": d.message },
+                    "locations": [ { "physicalLocation": self.sarif_region(d.file, d.range) } ],
+                    "relatedLocations": d.related.iter().enumerate().map(|(i, r)| json!({
+                        "id": i,
+                        "message": { "text": r.message },
+                        "physicalLocation": self.sarif_region(r.file, r.range),
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let mut notifications: Vec<Value> = Vec::new();
+        for (path, message) in self.io_errors {
+            notifications.push(json!({
+                "level": "error",
+                "message": { "text": format!("{path}: {message}") },
+            }));
+        }
+        let doc = json!({
+            "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
+            "version": "2.1.0",
+            "runs": [ {
+                "tool": { "driver": {
+                    "name": "hipop",
+                    "version": env!("CARGO_PKG_VERSION"),
+                    "informationUri": "https://example.invalid/hipop",
+                    "rules": rules,
+                } },
+                "columnKind": "unicodeCodePoints",
+                "invocations": [ {
+                    "executionSuccessful": self.io_errors.is_empty(),
+                    "toolExecutionNotifications": notifications,
+                } ],
+                "results": results,
+            } ],
+        });
+        println!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
+    }
+
+    pub fn github(&self) {
+        for (path, message) in self.io_errors {
+            println!("::error file={},title=hipop::{}", escape_property(path), escape_data(message));
+        }
+        for d in self.diagnostics {
+            let path = self.path(d.file);
+            let level = match d.severity {
+                Severity::Error => "error",
+                Severity::Warning => "warning",
+                Severity::Info => "notice",
+            };
+            let Some(id) = self.sources.id(d.file) else { continue };
+            let (l1, c1) = self.sources.line_col(id, usize::from(d.range.start()));
+            let (l2, c2) = self.sources.line_col(id, usize::from(d.range.end()));
+            println!(
+                "::{level} file={},line={l1},col={c1},endLine={l2},endColumn={c2},title={}::{}",
+                escape_property(&path),
+                escape_property(&format!("{} {}", d.code.id, d.code.name)),
+                escape_data(&d.message)
+            );
+        }
+    }
+}
+
+fn range(r: TextRange) -> std::ops::Range<usize> {
+    usize::from(r.start())..usize::from(r.end())
+}
+
+fn sarif_level(s: Severity) -> &'static str {
+    match s {
+        Severity::Error => "error",
+        Severity::Warning => "warning",
+        Severity::Info => "note",
+    }
+}
+
+fn sarif_uri(path: &str) -> String {
+    path.trim_start_matches("./").replace('\\', "/").replace(' ', "%20")
+}
+
+/// GitHub workflow command escaping (message part).
+fn escape_data(s: &str) -> String {
+    s.replace('%', "%25").replace('\r', "%0D").replace('\n', "%0A")
+}
+
+/// GitHub workflow command escaping (property values).
+fn escape_property(s: &str) -> String {
+    escape_data(s).replace(':', "%3A").replace(',', "%2C")
+}

@@ -1,0 +1,195 @@
+//! End-to-end tests of the `hipop` binary: exit statuses, the output formats
+//! (snapshots) and the handling of bad inputs. Every command runs from the
+//! workspace root with relative paths, so the snapshots hold no machine path.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+const E0102: &str = "samples/broken/E0102-undefined-predicate.pddl";
+/// A fixture with one warning and no error.
+const WARNING_ONLY: &str = "samples/broken/W0201-unused-declaration.pddl";
+
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn hipop(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hipop"))
+        .args(args)
+        .current_dir(workspace_root())
+        .env_remove("NO_COLOR")
+        .env_remove("CLICOLOR_FORCE")
+        .output()
+        .expect("the hipop binary runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).expect("stdout is UTF-8")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8(o.stderr.clone()).expect("stderr is UTF-8")
+}
+
+fn status(o: &Output) -> i32 {
+    o.status.code().expect("hipop exits with a status, not a signal")
+}
+
+fn assert_no_panic(o: &Output) {
+    let err = stderr(o);
+    assert!(!err.contains("panicked"), "hipop panicked:\n{err}");
+}
+
+#[test]
+fn clean_samples_check_without_diagnostics() {
+    let o = hipop(&["check", "samples/rover-mission", "samples/transport-htn", "samples/surveillance"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 0, "stderr:\n{}", stderr(&o));
+    assert!(stderr(&o).contains("0 errors, 0 warnings"), "stderr:\n{}", stderr(&o));
+}
+
+/// `samples/` holds the deliberately broken fixtures of `samples/broken/`: checking
+/// the whole folder fails, and only because of them.
+#[test]
+fn samples_folder_fails_only_in_broken_fixtures() {
+    let o = hipop(&["check", "samples/", "--format", "json"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 1);
+    let doc: Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    let diagnostics = doc["diagnostics"].as_array().expect("diagnostics array");
+    assert!(!diagnostics.is_empty());
+    for d in diagnostics {
+        let file = d["location"]["file"].as_str().expect("file");
+        assert!(file.starts_with("samples/broken/"), "unexpected diagnostic outside samples/broken/: {d}");
+    }
+}
+
+#[test]
+fn human_format() {
+    let o = hipop(&["check", E0102, "--format", "human", "--color", "never"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 1);
+    assert_eq!(stdout(&o), "", "human diagnostics go to stderr");
+    insta::assert_snapshot!(stderr(&o));
+}
+
+#[test]
+fn human_is_the_default_format() {
+    let default = hipop(&["check", E0102, "--color", "never"]);
+    let human = hipop(&["check", E0102, "--format", "human", "--color", "never"]);
+    assert_eq!(stderr(&default), stderr(&human));
+    assert_eq!(status(&default), 1);
+}
+
+#[test]
+fn json_format() {
+    let o = hipop(&["check", E0102, "--format", "json"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 1);
+    let out = stdout(&o);
+    let doc: Value = serde_json::from_str(&out).expect("one JSON document");
+    assert_eq!(doc["diagnostics"][0]["code"], "E0102");
+    assert_eq!(doc["summary"]["errors"], 1);
+    insta::assert_snapshot!(out);
+}
+
+#[test]
+fn github_format() {
+    let o = hipop(&["check", E0102, "--format", "github"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 1);
+    let out = stdout(&o);
+    assert!(out.lines().all(|l| l.starts_with("::")), "only workflow commands on stdout:\n{out}");
+    insta::assert_snapshot!(out);
+}
+
+#[test]
+fn sarif_format() {
+    let o = hipop(&["check", E0102, "--format", "sarif"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 1);
+    let mut doc: Value = serde_json::from_str(&stdout(&o)).expect("one JSON document");
+    assert_eq!(doc["version"], "2.1.0");
+    let run = &doc["runs"][0];
+    assert_eq!(run["tool"]["driver"]["name"], "hipop");
+    let rule_ids: Vec<&str> = run["tool"]["driver"]["rules"]
+        .as_array()
+        .expect("rules array")
+        .iter()
+        .map(|r| r["id"].as_str().expect("rule id"))
+        .collect();
+    let results = run["results"].as_array().expect("results array");
+    assert!(!results.is_empty());
+    for r in results {
+        let id = r["ruleId"].as_str().expect("ruleId");
+        assert!(rule_ids.contains(&id), "result rule `{id}` is not among the driver's rules");
+        let index = r["ruleIndex"].as_u64().expect("ruleIndex") as usize;
+        assert_eq!(rule_ids[index], id, "ruleIndex points at the result's rule");
+    }
+    assert_eq!(results[0]["ruleId"], "E0102");
+    // The tool version changes with every release: keep it out of the snapshot.
+    doc["runs"][0]["tool"]["driver"]["version"] = Value::from("[version]");
+    insta::assert_snapshot!(serde_json::to_string_pretty(&doc).expect("serialisable"));
+}
+
+#[test]
+fn deny_warnings_turns_warnings_into_failure() {
+    let without = hipop(&["check", WARNING_ONLY, "--color", "never"]);
+    assert_no_panic(&without);
+    assert_eq!(status(&without), 0, "a warning alone does not fail:\n{}", stderr(&without));
+    assert!(stderr(&without).contains("0 errors, 1 warning"), "stderr:\n{}", stderr(&without));
+
+    let with = hipop(&["check", WARNING_ONLY, "--deny", "warnings", "--color", "never"]);
+    assert_no_panic(&with);
+    assert_eq!(status(&with), 1, "with --deny warnings a warning fails:\n{}", stderr(&with));
+}
+
+#[test]
+fn nonexistent_path_is_a_usage_error() {
+    let o = hipop(&["check", "samples/no-such-mission.pddl"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 2);
+    let err = stderr(&o);
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("samples/no-such-mission.pddl")).collect();
+    assert_eq!(lines.len(), 1, "one line names the missing path:\n{err}");
+    assert!(lines[0].starts_with("error:"), "stderr:\n{err}");
+    assert!(lines[0].contains("no such file"), "stderr:\n{err}");
+}
+
+/// A temporary file removed on drop.
+struct TempFile(PathBuf);
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
+}
+
+#[test]
+fn non_utf8_file_is_reported_without_panic() {
+    let path = std::env::temp_dir().join(format!("hipop-cli-test-{}-not-utf8.pddl", std::process::id()));
+    std::fs::write(&path, [0xff, 0xfe]).expect("temp file written");
+    let file = TempFile(path);
+    let o = hipop(&["check", file.0.to_str().expect("UTF-8 temp path"), "--color", "never"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 2);
+    let err = stderr(&o);
+    let line = err.lines().find(|l| l.contains("not-utf8.pddl")).expect("a line names the file");
+    assert!(line.starts_with("error:"), "stderr:\n{err}");
+    assert!(line.contains("UTF-8"), "the message says what is wrong:\n{err}");
+}
+
+#[test]
+fn help_succeeds() {
+    let o = hipop(&["--help"]);
+    assert_eq!(status(&o), 0);
+    let out = stdout(&o);
+    assert!(out.contains("check"), "--help lists the check command:\n{out}");
+
+    let o = hipop(&["check", "--help"]);
+    assert_eq!(status(&o), 0);
+    let out = stdout(&o);
+    assert!(out.contains("--format") && out.contains("--deny"), "check --help lists its options:\n{out}");
+}
