@@ -2,19 +2,10 @@
 //! (and scaled-up variants for throughput benchmarks) as an HTN-PDDL domain
 //! and problem. Deterministic: the same arguments give the same bytes.
 
-mod emit;
-mod geo;
-mod rng;
-mod world;
-
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use emit::Provenance;
-use world::{Params, World};
-
-const DEFAULT_SEED: u64 = 42;
-const MIB: f64 = 1_048_576.0;
+use hipop_samplegen::{DEFAULT_SEED, big, surveillance};
 
 const HELP: &str = "\
 hipop-samplegen: deterministic generator of hipop sample missions.
@@ -97,49 +88,6 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
     }
 }
 
-/// The domain and problem texts of the case study.
-pub fn surveillance(seed: u64) -> (String, String) {
-    let world = world::generate(&Params::surveillance(), seed);
-    let prov = Provenance {
-        mode: "surveillance".to_string(),
-        seed,
-        command: if seed == DEFAULT_SEED {
-            "cargo run -p hipop-samplegen -- surveillance --out samples/surveillance".to_string()
-        } else {
-            format!("cargo run -p hipop-samplegen -- surveillance --seed {seed} --out DIR")
-        },
-    };
-    render(&world, &prov)
-}
-
-/// The domain and problem texts of a big instance whose problem is about `size_mb` MiB.
-pub fn big(size_mb: f64, seed: u64) -> (String, String) {
-    let prov = Provenance {
-        mode: "big".to_string(),
-        seed,
-        command: format!(
-            "cargo run --release -p hipop-samplegen -- big --size-mb {size_mb} --seed {seed} --out DIR"
-        ),
-    };
-    let target = size_mb * MIB;
-    // The problem's size grows about linearly with the zone's area: measure, then rescale.
-    let mut area = (target / 105_000.0).max(1.0);
-    let mut files = render(&world::generate(&Params::scaled(area), seed), &prov);
-    for _ in 0..4 {
-        let ratio = target / files.1.len() as f64;
-        if (0.98..=1.02).contains(&ratio) || (area <= 1.0 && ratio < 1.0) {
-            break;
-        }
-        area = (area * ratio).max(1.0);
-        files = render(&world::generate(&Params::scaled(area), seed), &prov);
-    }
-    files
-}
-
-fn render(world: &World, prov: &Provenance) -> (String, String) {
-    (emit::domain(world, prov), emit::problem(world, prov))
-}
-
 fn write_files(out: &PathBuf, files: &(String, String)) -> Result<(), String> {
     std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     for (name, text) in [("domain.pddl", &files.0), ("problem.pddl", &files.1)] {
@@ -171,4 +119,25 @@ fn main() -> ExitCode {
 }
 
 #[cfg(test)]
-mod tests;
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arguments_are_parsed() {
+        let args = |s: &str| s.split_whitespace().map(String::from).collect::<Vec<_>>();
+        assert_eq!(parse_args(&args("--help")), Ok(Command::Help));
+        assert_eq!(
+            parse_args(&args("surveillance --out x")),
+            Ok(Command::Surveillance { seed: DEFAULT_SEED, out: PathBuf::from("x") })
+        );
+        assert_eq!(
+            parse_args(&args("big --size-mb 2.5 --seed 9")),
+            Ok(Command::Big { size_mb: 2.5, seed: 9, out: PathBuf::from(".") })
+        );
+        assert!(parse_args(&args("big")).is_err());
+        assert!(parse_args(&args("surveillance --size-mb 3")).is_err());
+        assert!(parse_args(&args("surveillance --seed -1")).is_err());
+        assert!(parse_args(&args("frobnicate")).is_err());
+        assert!(parse_args(&[]).is_err());
+    }
+}

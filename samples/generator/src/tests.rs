@@ -439,25 +439,6 @@ fn big_reaches_about_the_requested_size() {
 }
 
 #[test]
-fn arguments_are_parsed() {
-    let args = |s: &str| s.split_whitespace().map(String::from).collect::<Vec<_>>();
-    assert_eq!(parse_args(&args("--help")), Ok(Command::Help));
-    assert_eq!(
-        parse_args(&args("surveillance --out x")),
-        Ok(Command::Surveillance { seed: DEFAULT_SEED, out: PathBuf::from("x") })
-    );
-    assert_eq!(
-        parse_args(&args("big --size-mb 2.5 --seed 9")),
-        Ok(Command::Big { size_mb: 2.5, seed: 9, out: PathBuf::from(".") })
-    );
-    assert!(parse_args(&args("big")).is_err());
-    assert!(parse_args(&args("surveillance --size-mb 3")).is_err());
-    assert!(parse_args(&args("surveillance --seed -1")).is_err());
-    assert!(parse_args(&args("frobnicate")).is_err());
-    assert!(parse_args(&[]).is_err());
-}
-
-#[test]
 fn the_structural_check_notices_mistakes() {
     let (d, p) = surveillance(DEFAULT_SEED);
     let bad_arity = d.replacen("(at end (at-r ?r ?to))", "(at end (at-r ?r))", 1);

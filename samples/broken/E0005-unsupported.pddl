@@ -1,0 +1,14 @@
+; E0005 unsupported: `(:process …)` is PDDL+ (continuous change). hipop reads
+; the domain but reports this one error and nothing else about it: it cannot
+; plan or validate with processes and events.
+; Fix: model the recharge as a durative action (PDDL 2.1), or use a PDDL+ tool.
+(define (domain rovers)
+  (:requirements :typing :numeric-fluents :time)
+  (:types rover)
+  (:predicates (docked ?r - rover))
+  (:functions (battery ?r - rover) - number)
+
+  (:process recharge
+    :parameters (?r - rover)
+    :precondition (and (docked ?r) (< (battery ?r) 100))
+    :effect (increase (battery ?r) (* #t 2.0))))
