@@ -14,7 +14,7 @@ use rowan::{NodeOrToken, TextRange, TextSize};
 
 use crate::diagnostic::{Diagnostic, Severity, codes};
 use crate::model::{self, Lowered};
-use crate::syntax::{self, Green, GreenElement, List, Parse, Sexp, SyntaxKind, TextEdit};
+use crate::syntax::{self, GList, GSexp, Green, List, Parse, TextEdit};
 
 /// The database trait every query takes.
 #[salsa::db]
@@ -169,14 +169,51 @@ pub struct Unit<'db> {
 #[derive(Debug, Clone)]
 pub enum ItemSyntax {
     List(Green),
-    /// Significant elements with their offsets relative to the first one.
-    Chunk(Arc<[(TextSize, GreenElement)]>),
+    /// Children `from..to` of an `:init` list (significant and trivia alike),
+    /// the first one significant. The list is shared with the other chunks:
+    /// making a chunk copies nothing.
+    Chunk {
+        init: Green,
+        from: u32,
+        to: u32,
+    },
 }
 
-fn element_eq(a: &GreenElement, b: &GreenElement) -> bool {
+impl ItemSyntax {
+    /// The elements of a chunk with their offsets relative to the chunk's start.
+    pub fn chunk_elements(
+        &self,
+    ) -> Vec<(TextSize, NodeOrToken<&rowan::GreenNodeData, &rowan::GreenTokenData>)> {
+        let ItemSyntax::Chunk { init, from, to } = self else { return Vec::new() };
+        let mut at = TextSize::from(0);
+        init.0
+            .children()
+            .skip(*from as usize)
+            .take((*to - *from) as usize)
+            .map(|c| {
+                let start = at;
+                at += c.text_len();
+                (start, c)
+            })
+            .collect()
+    }
+
+    /// The length of the item's text.
+    pub fn text_len(&self) -> TextSize {
+        match self {
+            ItemSyntax::List(g) => g.0.text_len(),
+            ItemSyntax::Chunk { .. } => self.chunk_elements().iter().map(|(_, c)| c.text_len()).sum(),
+        }
+    }
+}
+
+fn same_element(
+    a: NodeOrToken<&rowan::GreenNodeData, &rowan::GreenTokenData>,
+    b: NodeOrToken<&rowan::GreenNodeData, &rowan::GreenTokenData>,
+) -> bool {
     match (a, b) {
-        (NodeOrToken::Node(a), NodeOrToken::Node(b)) => Green(a.clone()) == Green(b.clone()),
-        (NodeOrToken::Token(a), NodeOrToken::Token(b)) => a == b,
+        (NodeOrToken::Node(a), NodeOrToken::Node(b)) => std::ptr::eq(a, b) || a == b,
+        (NodeOrToken::Token(a), NodeOrToken::Token(b)) => std::ptr::eq(a, b) || a == b,
         _ => false,
     }
 }
@@ -185,10 +222,12 @@ impl PartialEq for ItemSyntax {
     fn eq(&self, other: &Self) -> bool {
         match (self, other) {
             (ItemSyntax::List(a), ItemSyntax::List(b)) => a == b,
-            (ItemSyntax::Chunk(a), ItemSyntax::Chunk(b)) => {
-                Arc::ptr_eq(a, b)
-                    || (a.len() == b.len()
-                        && a.iter().zip(b.iter()).all(|((oa, ea), (ob, eb))| oa == ob && element_eq(ea, eb)))
+            (
+                ItemSyntax::Chunk { init: a, from: fa, to: ta },
+                ItemSyntax::Chunk { init: b, from: fb, to: tb },
+            ) => {
+                let (xs, ys) = (a.0.children().skip(*fa as usize), b.0.children().skip(*fb as usize));
+                ta - fa == tb - fb && xs.zip(ys).take((ta - fa) as usize).all(|(x, y)| same_element(x, y))
             }
             _ => false,
         }
@@ -221,85 +260,88 @@ pub struct Item<'db> {
 }
 
 /// How many `:init` elements make a chunk.
-pub const INIT_CHUNK: usize = 64;
+pub const INIT_CHUNK: usize = 256;
 
-fn header_of(list: &List) -> (UnitKind, Option<String>) {
+fn header_of(list: &GList<'_>) -> (UnitKind, Option<String>) {
     for e in list.elements().skip(1) {
-        if let Sexp::List(l) = e {
-            let elems: Vec<Sexp> = l.elements().collect();
-            let kind = match elems.first() {
+        if let GSexp::List(l) = e {
+            let mut elems = l.elements();
+            let kind = match elems.next() {
                 Some(h) if h.is_atom("domain") => UnitKind::Domain,
                 Some(h) if h.is_atom("problem") => UnitKind::Problem,
                 _ => continue,
             };
-            return (kind, elems.get(1).and_then(|n| n.atom_text()).map(str::to_ascii_lowercase));
+            return (kind, elems.next().and_then(|n| n.atom_text()).map(str::to_ascii_lowercase));
         }
     }
     (UnitKind::Unknown, None)
 }
 
+/// The `define` lists at the top level of a tree.
+fn defines(root: &rowan::GreenNodeData) -> impl Iterator<Item = GList<'_>> {
+    let mut at = TextSize::from(0);
+    root.children().filter_map(move |c| {
+        let start = at;
+        at += c.text_len();
+        match c {
+            NodeOrToken::Node(n) => GList::root(n, start).filter(|l| l.head_is("define")),
+            NodeOrToken::Token(_) => None,
+        }
+    })
+}
+
 /// The `define` units of a file and their items.
 #[salsa::tracked(returns(ref))]
 pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
-    let root = parse(db, file).syntax();
+    let root = &parse(db, file).green.0;
     let mut units = Vec::new();
-    for (index, list) in root.children().filter_map(List::cast).filter(|l| l.head_is("define")).enumerate() {
+    for (index, list) in defines(root).enumerate() {
         let index = index as u32;
         let (kind, name) = header_of(&list);
         let mut domain_ref = None;
         let mut items = Vec::new();
-        for child in list.0.children().filter_map(List::cast) {
-            let head = child.head_text();
-            let section = Section::of(head.as_deref());
+        for child in list.elements().filter_map(|e| e.as_list().copied()) {
+            let section = Section::of(child.head_text());
             let offset = child.range().start();
             match section {
                 Section::Init => {
-                    let elements: Vec<(TextSize, GreenElement)> = child
-                        .0
-                        .children_with_tokens()
-                        .skip_while(|e| e.kind() != SyntaxKind::Keyword)
-                        .skip(1)
-                        .filter(|e| e.kind() == SyntaxKind::List || e.kind().is_atom())
-                        .map(|e| {
-                            let start = e.text_range().start();
-                            let green: GreenElement = match e {
-                                NodeOrToken::Node(n) => NodeOrToken::Node(n.green().into_owned()),
-                                NodeOrToken::Token(t) => NodeOrToken::Token(t.green().to_owned()),
-                            };
-                            (start, green)
-                        })
-                        .collect();
-                    if elements.is_empty() {
-                        let syntax = ItemSyntax::Chunk(Arc::from(Vec::new()));
+                    // Chunks of INIT_CHUNK significant elements, after the `:init` keyword.
+                    let init = Green(child.green().to_owned());
+                    let mut starts: Vec<(u32, TextSize)> = Vec::new();
+                    let mut significant = 0usize;
+                    let mut end = 0u32;
+                    for (i, (start, c)) in child.children().enumerate() {
+                        if GSexp::of(c, start).is_none() {
+                            continue;
+                        }
+                        end = i as u32 + 1;
+                        significant += 1;
+                        // The first significant element is the `:init` keyword itself.
+                        if significant >= 2 && (significant - 2).is_multiple_of(INIT_CHUNK) {
+                            starts.push((i as u32, start));
+                        }
+                    }
+                    if starts.is_empty() {
+                        let syntax = ItemSyntax::Chunk { init: init.clone(), from: 0, to: 0 };
                         items.push(Item::new(db, file, index, kind, section, None, syntax, offset));
                     }
-                    for chunk in elements.chunks(INIT_CHUNK) {
-                        let first = chunk[0].0;
-                        let rel: Arc<[_]> = chunk.iter().map(|(o, g)| (*o - first, g.clone())).collect();
-                        items.push(Item::new(
-                            db,
-                            file,
-                            index,
-                            kind,
-                            section,
-                            None,
-                            ItemSyntax::Chunk(rel),
-                            first,
-                        ));
+                    for (k, &(from, start)) in starts.iter().enumerate() {
+                        let to = starts.get(k + 1).map_or(end, |n| n.0);
+                        let syntax = ItemSyntax::Chunk { init: init.clone(), from, to };
+                        items.push(Item::new(db, file, index, kind, section, None, syntax, start));
                     }
                 }
                 _ => {
+                    let second =
+                        || child.elements().nth(1).and_then(|n| n.atom_text().map(str::to_ascii_lowercase));
                     if section == Section::DomainRef {
-                        domain_ref =
-                            child.elements().nth(1).and_then(|n| n.atom_text().map(str::to_ascii_lowercase));
+                        domain_ref = second();
                     }
                     let name = match section {
-                        Section::Action | Section::Task | Section::Method => {
-                            child.elements().nth(1).and_then(|n| n.atom_text().map(str::to_ascii_lowercase))
-                        }
+                        Section::Action | Section::Task | Section::Method => second(),
                         _ => None,
                     };
-                    let syntax = ItemSyntax::List(Green(child.0.green().into_owned()));
+                    let syntax = ItemSyntax::List(Green(child.green().to_owned()));
                     items.push(Item::new(db, file, index, kind, section, name, syntax, offset));
                 }
             }
@@ -314,7 +356,7 @@ pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
 pub fn lower_item<'db>(db: &'db dyn Db, item: Item<'db>) -> Lowered {
     match item.syntax(db) {
         ItemSyntax::List(green) => model::lower_list(&green.0),
-        ItemSyntax::Chunk(elements) => model::lower_chunk(elements),
+        chunk @ ItemSyntax::Chunk { .. } => model::lower_chunk(&chunk.chunk_elements()),
     }
 }
 
@@ -347,7 +389,9 @@ pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> 
             NodeOrToken::Node(n) => match List::cast(n.clone()) {
                 Some(l) if l.head_is("define") => {
                     saw_define = true;
-                    if header_of(&l).0 == UnitKind::Unknown {
+                    let green = n.green();
+                    let list = GList::root(&green, l.range().start());
+                    if list.is_some_and(|g| header_of(&g).0 == UnitKind::Unknown) {
                         let at = l.head().map_or(l.open_range(), |h| h.range());
                         out.push(structure_error(
                             file,

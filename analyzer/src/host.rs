@@ -139,7 +139,45 @@ impl Analysis {
     }
 
     pub fn diagnostics(&self, file: SourceFile) -> Cancellable<Vec<Diagnostic>> {
+        self.warm_up(file)?;
         self.with_db(|db| crate::semantics::file_diagnostics(db, file).clone())
+    }
+
+    /// Checks the items of a large file on every core before collecting its
+    /// diagnostics. Each thread has its own database handle (salsa's rule);
+    /// results land in the shared memo tables.
+    fn warm_up(&self, file: SourceFile) -> Cancellable<()> {
+        const PARALLEL_FROM: usize = 256;
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(8);
+        let items = self.with_db(|db| {
+            let units = crate::db::file_units(db, file);
+            // The domain's symbols are shared by every check: compute them once, first.
+            for &u in units {
+                if let Some(d) = crate::semantics::check::domain_for(db, u) {
+                    crate::semantics::symbols::domain_symbols(db, d);
+                }
+            }
+            units.iter().map(|u| u.items(db).len()).sum::<usize>()
+        })?;
+        if threads < 2 || items < PARALLEL_FROM {
+            return Ok(());
+        }
+        std::thread::scope(|scope| {
+            for t in 0..threads {
+                let db = self.db.clone();
+                scope.spawn(move || {
+                    // A cancelled warm-up is harmless: the caller's own query unwinds too.
+                    let _ = salsa::Cancelled::catch(AssertUnwindSafe(|| {
+                        let units = crate::db::file_units(&db, file);
+                        let all = units.iter().flat_map(|u| u.items(&db).iter().copied());
+                        for item in all.skip(t).step_by(threads) {
+                            crate::semantics::check::check_item(&db, item);
+                        }
+                    }));
+                });
+            }
+        });
+        Ok(())
     }
 
     pub fn document_symbols(&self, file: SourceFile) -> Cancellable<Vec<crate::ide::DocumentSymbol>> {

@@ -3,11 +3,12 @@
 
 mod refs;
 
+use crate::model::Str;
 use rowan::{TextRange, TextSize};
 
 pub use refs::{Occurrence, RefKind, occurrences};
 
-use crate::db::{Db, Item, ItemSyntax, Section, SourceFile, Unit, UnitKind, file_units, lower_item};
+use crate::db::{Db, Item, Section, SourceFile, Unit, UnitKind, file_units, lower_item};
 use crate::model::{ActionKind, ItemData, TypeRef};
 use crate::semantics::check::domain_for;
 use crate::semantics::resolve::problems_of;
@@ -15,10 +16,7 @@ use crate::semantics::symbols::{Loc, SigDecl, domain_symbols, problem_symbols};
 
 /// The absolute range of an item.
 pub fn item_range(db: &dyn Db, item: Item<'_>) -> TextRange {
-    let len = match item.syntax(db) {
-        ItemSyntax::List(g) => g.0.text_len(),
-        ItemSyntax::Chunk(els) => els.last().map_or(0.into(), |(o, e)| *o + e.text_len()),
-    };
+    let len = item.syntax(db).text_len();
     TextRange::at(item.offset(db), len)
 }
 
@@ -319,7 +317,7 @@ pub struct HoverResult {
     pub markdown: String,
 }
 
-fn params_text(names: &[Box<str>], types: &[Vec<Box<str>>]) -> String {
+fn params_text(names: &[Str], types: &[Vec<Str>]) -> String {
     let mut out = String::new();
     let mut i = 0;
     while i < names.len() {

@@ -8,7 +8,7 @@ use rowan::{GreenNode, NodeOrToken, TextRange, TextSize};
 
 use super::*;
 use crate::diagnostic::{LocalDiag, codes};
-use crate::syntax::{List, Sexp, SyntaxKind, SyntaxNode};
+use crate::syntax::{GAtom, GList, GSexp, SyntaxKind};
 
 /// The model of one item and what was wrong with its shape.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -19,9 +19,8 @@ pub struct Lowered {
 
 /// Lowers a section (a list that is a child of a `define`).
 pub fn lower_list(green: &GreenNode) -> Lowered {
-    let node = SyntaxNode::new_root(green.clone());
-    let mut cx = Cx { base: TextSize::from(0), diags: Vec::new() };
-    let data = match List::cast(node) {
+    let mut cx = Cx { diags: Vec::new() };
+    let data = match GList::root(green, TextSize::from(0)) {
         Some(list) => cx.section(&list),
         None => ItemData::Unknown,
     };
@@ -29,63 +28,64 @@ pub fn lower_list(green: &GreenNode) -> Lowered {
 }
 
 /// Lowers a chunk of `:init` elements, given with their offsets relative to the chunk.
-pub fn lower_chunk(elements: &[(TextSize, crate::syntax::GreenElement)]) -> Lowered {
-    let mut cx = Cx { base: TextSize::from(0), diags: Vec::new() };
-    let mut init = Vec::new();
-    for (offset, element) in elements {
-        cx.base = *offset;
-        let sexp = match element {
-            NodeOrToken::Node(n) => match List::cast(SyntaxNode::new_root(n.clone())) {
-                Some(l) => Sexp::List(l),
-                None => continue,
-            },
-            NodeOrToken::Token(t) => {
-                if t.kind() == SyntaxKind::Whitespace.into() || t.kind() == SyntaxKind::Comment.into() {
-                    continue;
+pub fn lower_chunk(
+    elements: &[(TextSize, NodeOrToken<&rowan::GreenNodeData, &rowan::GreenTokenData>)],
+) -> Lowered {
+    let mut cx = Cx { diags: Vec::new() };
+    let mut init = Vec::with_capacity(elements.len());
+    for &(offset, element) in elements {
+        match GSexp::of(element, offset) {
+            Some(sexp @ GSexp::List(_)) => {
+                if let Some(e) = cx.init_element(&sexp) {
+                    init.push(e);
                 }
-                let span = TextRange::at(*offset, t.text_len());
-                cx.error(codes::MALFORMED, span, "expected an initial fact like `(p a b)`");
-                continue;
             }
-        };
-        if let Some(e) = cx.init_element(&sexp) {
-            init.push(e);
+            Some(atom) => cx.malformed(&atom, "expected an initial fact like `(p a b)`"),
+            None => {}
         }
     }
     Lowered { data: ItemData::Init(init), diags: cx.diags }
 }
 
 struct Cx {
-    base: TextSize,
     diags: Vec<LocalDiag>,
 }
 
-fn atom_kind(s: &Sexp) -> Option<SyntaxKind> {
+/// The elements of `(and a b …)`, of `()`, or the element itself.
+fn conjuncts<'t>(e: &GSexp<'t>) -> Vec<GSexp<'t>> {
+    match e {
+        GSexp::List(l) if l.head_is("and") => l.elements().skip(1).collect(),
+        GSexp::List(l) if l.head().is_none() => Vec::new(),
+        other => vec![*other],
+    }
+}
+
+fn atom_kind(s: &GSexp<'_>) -> Option<SyntaxKind> {
     s.as_atom().map(|t| t.kind())
 }
 
 impl Cx {
     fn span(&self, r: TextRange) -> TextRange {
-        r + self.base
+        r
     }
 
     fn error(&mut self, code: &'static crate::diagnostic::Code, span: TextRange, msg: impl Into<String>) {
         self.diags.push(LocalDiag::new(code, span, msg));
     }
 
-    fn malformed(&mut self, at: &Sexp, msg: impl Into<String>) {
+    fn malformed(&mut self, at: &GSexp<'_>, msg: impl Into<String>) {
         let span = self.span(at.range());
         self.error(codes::MALFORMED, span, msg);
     }
 
-    fn name(&self, t: &crate::syntax::SyntaxToken) -> Name {
+    fn name(&self, t: &GAtom<'_>) -> Name {
         Name::new(t.text(), self.span(t.text_range()))
     }
 
     /// An atom that names something (not a variable, keyword or list).
-    fn expect_name(&mut self, s: Option<&Sexp>, what: &str, after: TextRange) -> Option<Name> {
+    fn expect_name(&mut self, s: Option<&GSexp<'_>>, what: &str, after: TextRange) -> Option<Name> {
         match s {
-            Some(Sexp::Atom(t)) if matches!(t.kind(), SyntaxKind::Symbol | SyntaxKind::Number) => {
+            Some(GSexp::Atom(t)) if matches!(t.kind(), SyntaxKind::Symbol | SyntaxKind::Number) => {
                 Some(self.name(t))
             }
             Some(other) => {
@@ -100,8 +100,8 @@ impl Cx {
         }
     }
 
-    fn section(&mut self, list: &List) -> ItemData {
-        let elems: Vec<Sexp> = list.elements().collect();
+    fn section(&mut self, list: &GList<'_>) -> ItemData {
+        let elems: Vec<GSexp<'_>> = list.elements().collect();
         let Some(head) = elems.first() else {
             self.error(codes::MALFORMED, self.span(list.range()), "empty section `()`");
             return ItemData::Unknown;
@@ -126,7 +126,7 @@ impl Cx {
                 let mut reqs = Vec::new();
                 for r in rest {
                     match r {
-                        Sexp::Atom(t) if t.kind() == SyntaxKind::Keyword => reqs.push(self.name(t)),
+                        GSexp::Atom(t) if t.kind() == SyntaxKind::Keyword => reqs.push(self.name(t)),
                         other => self.malformed(other, "expected a requirement like `:typing`"),
                     }
                 }
@@ -166,7 +166,7 @@ impl Cx {
                 let mut names = Vec::new();
                 for r in rest {
                     match r {
-                        Sexp::Atom(t) if t.kind() == SyntaxKind::Symbol => names.push(self.name(t)),
+                        GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol => names.push(self.name(t)),
                         other => self.malformed(other, "expected the name of an action or task"),
                     }
                 }
@@ -209,7 +209,7 @@ impl Cx {
     }
 
     /// `a b - t c - (either u v) d`.
-    fn typed_list(&mut self, elems: &[Sexp], variables: bool) -> Vec<Typed> {
+    fn typed_list(&mut self, elems: &[GSexp<'_>], variables: bool) -> Vec<Typed> {
         let mut out = Vec::new();
         let mut pending: Vec<Name> = Vec::new();
         let mut i = 0;
@@ -231,8 +231,8 @@ impl Cx {
                 continue;
             }
             match e {
-                Sexp::Atom(t) if variables && t.kind() == SyntaxKind::Variable => pending.push(self.name(t)),
-                Sexp::Atom(t)
+                GSexp::Atom(t) if variables && t.kind() == SyntaxKind::Variable => pending.push(self.name(t)),
+                GSexp::Atom(t)
                     if !variables && matches!(t.kind(), SyntaxKind::Symbol | SyntaxKind::Number) =>
                 {
                     pending.push(self.name(t))
@@ -246,14 +246,14 @@ impl Cx {
         out
     }
 
-    fn type_ref(&mut self, e: &Sexp) -> TypeRef {
+    fn type_ref(&mut self, e: &GSexp<'_>) -> TypeRef {
         match e {
-            Sexp::Atom(t) if t.kind() == SyntaxKind::Symbol => TypeRef::Named(self.name(t)),
-            Sexp::List(l) if l.head_is("either") => {
+            GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol => TypeRef::Named(self.name(t)),
+            GSexp::List(l) if l.head_is("either") => {
                 let mut names = Vec::new();
                 for x in l.elements().skip(1) {
                     match &x {
-                        Sexp::Atom(t) if t.kind() == SyntaxKind::Symbol => names.push(self.name(t)),
+                        GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol => names.push(self.name(t)),
                         other => self.malformed(other, "expected a type name"),
                     }
                 }
@@ -266,10 +266,10 @@ impl Cx {
         }
     }
 
-    fn params(&mut self, e: &Sexp) -> Vec<Typed> {
+    fn params(&mut self, e: &GSexp<'_>) -> Vec<Typed> {
         match e {
-            Sexp::List(l) => {
-                let elems: Vec<Sexp> = l.elements().collect();
+            GSexp::List(l) => {
+                let elems: Vec<GSexp<'_>> = l.elements().collect();
                 self.typed_list(&elems, true)
             }
             other => {
@@ -279,7 +279,7 @@ impl Cx {
         }
     }
 
-    fn signatures(&mut self, elems: &[Sexp], functions: bool) -> Vec<Signature> {
+    fn signatures(&mut self, elems: &[GSexp<'_>], functions: bool) -> Vec<Signature> {
         let mut out: Vec<Signature> = Vec::new();
         let mut untyped_from = 0;
         let mut i = 0;
@@ -301,10 +301,10 @@ impl Cx {
                 continue;
             }
             match e {
-                Sexp::List(l) => {
-                    let inner: Vec<Sexp> = l.elements().collect();
+                GSexp::List(l) => {
+                    let inner: Vec<GSexp<'_>> = l.elements().collect();
                     match inner.first() {
-                        Some(Sexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => {
+                        Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => {
                             let name = self.name(t);
                             let params = self.typed_list(&inner[1..], true);
                             out.push(Signature {
@@ -333,18 +333,18 @@ impl Cx {
     }
 
     /// Splits `:field value :field value` pairs.
-    fn fields<'a>(
+    fn fields<'a, 't>(
         &mut self,
-        rest: &'a [Sexp],
+        rest: &'a [GSexp<'t>],
         allowed: &[&str],
         what: &str,
-    ) -> Vec<(String, TextRange, Option<&'a Sexp>)> {
+    ) -> Vec<(String, TextRange, Option<&'a GSexp<'t>>)> {
         let mut out = Vec::new();
         let mut i = 0;
         while i < rest.len() {
             let e = &rest[i];
             match e {
-                Sexp::Atom(t) if t.kind() == SyntaxKind::Keyword => {
+                GSexp::Atom(t) if t.kind() == SyntaxKind::Keyword => {
                     let key = t.text().to_ascii_lowercase();
                     let value = rest.get(i + 1).filter(|v| atom_kind(v) != Some(SyntaxKind::Keyword));
                     if !allowed.contains(&key.as_str()) {
@@ -377,13 +377,13 @@ impl Cx {
         out
     }
 
-    fn agent(&mut self, e: &Sexp) -> Vec<Name> {
+    fn agent(&mut self, e: &GSexp<'_>) -> Vec<Name> {
         match e {
-            Sexp::Atom(t) if t.kind() == SyntaxKind::Variable => vec![self.name(t)],
-            Sexp::List(l) => l
+            GSexp::Atom(t) if t.kind() == SyntaxKind::Variable => vec![self.name(t)],
+            GSexp::List(l) => l
                 .elements()
                 .filter_map(|x| match &x {
-                    Sexp::Atom(t) if t.kind() == SyntaxKind::Variable => Some(self.name(t)),
+                    GSexp::Atom(t) if t.kind() == SyntaxKind::Variable => Some(self.name(t)),
                     other => {
                         self.malformed(other, "expected a parameter variable like `?r`");
                         None
@@ -397,7 +397,7 @@ impl Cx {
         }
     }
 
-    fn action(&mut self, kind: ActionKind, head: &Sexp, rest: &[Sexp]) -> ItemData {
+    fn action(&mut self, kind: ActionKind, head: &GSexp<'_>, rest: &[GSexp<'_>]) -> ItemData {
         let what = match kind {
             ActionKind::Action => "an action",
             ActionKind::Durative => "a durative action",
@@ -434,7 +434,7 @@ impl Cx {
         ItemData::Action(Box::new(action))
     }
 
-    fn task(&mut self, head: &Sexp, rest: &[Sexp]) -> ItemData {
+    fn task(&mut self, head: &GSexp<'_>, rest: &[GSexp<'_>]) -> ItemData {
         let Some(name) = self.expect_name(rest.first(), "the task's name", head.range()) else {
             return ItemData::Unknown;
         };
@@ -464,15 +464,17 @@ impl Cx {
         ItemData::Task(Box::new(task))
     }
 
-    fn conflicts(&mut self, e: &Sexp) -> Vec<Atom> {
+    fn conflicts(&mut self, e: &GSexp<'_>) -> Vec<Atom> {
         match e {
-            Sexp::List(l) if l.head_is("and") => l.elements().skip(1).filter_map(|x| self.atom(&x)).collect(),
-            Sexp::List(l) if l.head().is_none() => Vec::new(),
+            GSexp::List(l) if l.head_is("and") => {
+                l.elements().skip(1).filter_map(|x| self.atom(&x)).collect()
+            }
+            GSexp::List(l) if l.head().is_none() => Vec::new(),
             other => self.atom(other).into_iter().collect(),
         }
     }
 
-    fn method(&mut self, durative: bool, head: &Sexp, rest: &[Sexp]) -> ItemData {
+    fn method(&mut self, durative: bool, head: &GSexp<'_>, rest: &[GSexp<'_>]) -> ItemData {
         let Some(name) = self.expect_name(rest.first(), "the method's name", head.range()) else {
             return ItemData::Unknown;
         };
@@ -521,7 +523,7 @@ impl Cx {
         ItemData::Method(Box::new(m))
     }
 
-    fn network_field(&mut self, net: &mut TaskNetwork, key: &str, value: &Sexp) {
+    fn network_field(&mut self, net: &mut TaskNetwork, key: &str, value: &GSexp<'_>) {
         match key {
             ":subtasks" | ":tasks" => net.subtasks = self.subtasks(value),
             ":ordered-subtasks" | ":ordered-tasks" => {
@@ -535,7 +537,7 @@ impl Cx {
         }
     }
 
-    fn htn(&mut self, list: &List, rest: &[Sexp]) -> ItemData {
+    fn htn(&mut self, list: &GList<'_>, rest: &[GSexp<'_>]) -> ItemData {
         let allowed = &[
             ":parameters",
             ":subtasks",
@@ -558,11 +560,11 @@ impl Cx {
         ItemData::Htn(htn)
     }
 
-    fn derived(&mut self, head: &Sexp, rest: &[Sexp]) -> ItemData {
+    fn derived(&mut self, head: &GSexp<'_>, rest: &[GSexp<'_>]) -> ItemData {
         match rest {
-            [Sexp::List(p), body] => {
-                let inner: Vec<Sexp> = p.elements().collect();
-                let Some(Sexp::Atom(t)) = inner.first() else {
+            [GSexp::List(p), body] => {
+                let inner: Vec<GSexp<'_>> = p.elements().collect();
+                let Some(GSexp::Atom(t)) = inner.first() else {
                     self.malformed(&rest[0], "expected `(predicate ?x - t …)`");
                     return ItemData::Unknown;
                 };
@@ -585,12 +587,12 @@ impl Cx {
         }
     }
 
-    fn task_call(&mut self, e: &Sexp) -> Option<TaskCall> {
+    fn task_call(&mut self, e: &GSexp<'_>) -> Option<TaskCall> {
         match e {
-            Sexp::List(l) => {
-                let inner: Vec<Sexp> = l.elements().collect();
+            GSexp::List(l) => {
+                let inner: Vec<GSexp<'_>> = l.elements().collect();
                 match inner.first() {
-                    Some(Sexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(TaskCall {
+                    Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(TaskCall {
                         name: self.name(t),
                         args: inner[1..].iter().filter_map(|a| self.term(a)).collect(),
                         span: self.span(l.range()),
@@ -608,23 +610,19 @@ impl Cx {
         }
     }
 
-    fn subtasks(&mut self, e: &Sexp) -> Vec<Subtask> {
-        let items: Vec<Sexp> = match e {
-            Sexp::List(l) if l.head_is("and") => l.elements().skip(1).collect(),
-            Sexp::List(l) if l.head().is_none() => Vec::new(),
-            other => vec![other.clone()],
-        };
+    fn subtasks(&mut self, e: &GSexp<'_>) -> Vec<Subtask> {
+        let items = conjuncts(e);
         items.iter().filter_map(|x| self.subtask(x)).collect()
     }
 
-    fn subtask(&mut self, e: &Sexp) -> Option<Subtask> {
-        let Sexp::List(l) = e else {
+    fn subtask(&mut self, e: &GSexp<'_>) -> Option<Subtask> {
+        let GSexp::List(l) = e else {
             self.malformed(e, "expected a subtask like `(t1 (name ?x …))`");
             return None;
         };
-        let inner: Vec<Sexp> = l.elements().collect();
+        let inner: Vec<GSexp<'_>> = l.elements().collect();
         match inner.as_slice() {
-            [Sexp::Atom(id), call @ Sexp::List(_)] if id.kind() == SyntaxKind::Symbol => {
+            [GSexp::Atom(id), call @ GSexp::List(_)] if id.kind() == SyntaxKind::Symbol => {
                 let id = self.name(id);
                 self.task_call(call).map(|call| Subtask { id: Some(id), call })
             }
@@ -632,17 +630,13 @@ impl Cx {
         }
     }
 
-    fn causal_links(&mut self, e: &Sexp) -> Vec<CausalLink> {
-        let items: Vec<Sexp> = match e {
-            Sexp::List(l) if l.head_is("and") => l.elements().skip(1).collect(),
-            Sexp::List(l) if l.head().is_none() => Vec::new(),
-            other => vec![other.clone()],
-        };
+    fn causal_links(&mut self, e: &GSexp<'_>) -> Vec<CausalLink> {
+        let items = conjuncts(e);
         let mut out = Vec::new();
         for x in &items {
-            let inner: Vec<Sexp> = x.as_list().map(|l| l.elements().collect()).unwrap_or_default();
+            let inner: Vec<GSexp<'_>> = x.as_list().map(|l| l.elements().collect()).unwrap_or_default();
             match inner.as_slice() {
-                [Sexp::Atom(from), lit, Sexp::Atom(to)] => {
+                [GSexp::Atom(from), lit, GSexp::Atom(to)] => {
                     let (from, to) = (self.name(from), self.name(to));
                     let (negated, atom) = match lit.as_list() {
                         Some(l) if l.head_is("not") => {
@@ -660,24 +654,20 @@ impl Cx {
         out
     }
 
-    fn orderings(&mut self, e: &Sexp) -> Vec<Ordering> {
-        let items: Vec<Sexp> = match e {
-            Sexp::List(l) if l.head_is("and") => l.elements().skip(1).collect(),
-            Sexp::List(l) if l.head().is_none() => Vec::new(),
-            other => vec![other.clone()],
-        };
+    fn orderings(&mut self, e: &GSexp<'_>) -> Vec<Ordering> {
+        let items = conjuncts(e);
         items.iter().filter_map(|x| self.ordering(x)).collect()
     }
 
-    fn order_point(&mut self, e: &Sexp) -> Option<OrderPoint> {
+    fn order_point(&mut self, e: &GSexp<'_>) -> Option<OrderPoint> {
         match e {
-            Sexp::Atom(t) if t.kind() == SyntaxKind::Symbol || t.kind() == SyntaxKind::Number => {
+            GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol || t.kind() == SyntaxKind::Number => {
                 Some(OrderPoint { id: self.name(t), endpoint: Endpoint::Whole })
             }
-            Sexp::List(l) => {
-                let inner: Vec<Sexp> = l.elements().collect();
+            GSexp::List(l) => {
+                let inner: Vec<GSexp<'_>> = l.elements().collect();
                 match inner.as_slice() {
-                    [which, Sexp::Atom(id)] if which.is_atom("start") || which.is_atom("end") => {
+                    [which, GSexp::Atom(id)] if which.is_atom("start") || which.is_atom("end") => {
                         Some(OrderPoint {
                             id: self.name(id),
                             endpoint: if which.is_atom("start") { Endpoint::Start } else { Endpoint::End },
@@ -696,12 +686,12 @@ impl Cx {
         }
     }
 
-    fn ordering(&mut self, e: &Sexp) -> Option<Ordering> {
-        let Sexp::List(l) = e else {
+    fn ordering(&mut self, e: &GSexp<'_>) -> Option<Ordering> {
+        let GSexp::List(l) = e else {
             self.malformed(e, "expected an ordering like `(< t1 t2)`");
             return None;
         };
-        let inner: Vec<Sexp> = l.elements().collect();
+        let inner: Vec<GSexp<'_>> = l.elements().collect();
         if let [not, inner_e] = inner.as_slice()
             && not.is_atom("not")
         {
@@ -711,7 +701,7 @@ impl Cx {
                 o
             });
         }
-        let op_of = |s: &Sexp| s.atom_text().and_then(CmpOp::parse);
+        let op_of = |s: &GSexp| s.atom_text().and_then(CmpOp::parse);
         let (op, a, b) = match inner.as_slice() {
             [op, a, b] if op_of(op).is_some() => (op_of(op)?, a, b),
             [a, op, b] if op_of(op).is_some() => (op_of(op)?, a, b),
@@ -725,9 +715,9 @@ impl Cx {
         Some(Ordering { op, negated: false, left, right, span: self.span(l.range()) })
     }
 
-    fn term(&mut self, e: &Sexp) -> Option<Term> {
+    fn term(&mut self, e: &GSexp<'_>) -> Option<Term> {
         match e {
-            Sexp::Atom(t) => match t.kind() {
+            GSexp::Atom(t) => match t.kind() {
                 SyntaxKind::Variable => Some(Term::Var(self.name(t))),
                 SyntaxKind::Keyword => {
                     self.malformed(
@@ -738,18 +728,18 @@ impl Cx {
                 }
                 _ => Some(Term::Const(self.name(t))),
             },
-            Sexp::List(_) => self.fluent(e).map(|f| Term::Func(Box::new(f))),
+            GSexp::List(_) => self.fluent(e).map(|f| Term::Func(Box::new(f))),
         }
     }
 
-    fn atom(&mut self, e: &Sexp) -> Option<Atom> {
-        let Sexp::List(l) = e else {
+    fn atom(&mut self, e: &GSexp<'_>) -> Option<Atom> {
+        let GSexp::List(l) = e else {
             self.malformed(e, "expected an atom like `(p ?x)`");
             return None;
         };
-        let inner: Vec<Sexp> = l.elements().collect();
+        let inner: Vec<GSexp<'_>> = l.elements().collect();
         match inner.first() {
-            Some(Sexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(Atom {
+            Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(Atom {
                 pred: self.name(t),
                 args: inner[1..].iter().filter_map(|a| self.term(a)).collect(),
                 span: self.span(l.range()),
@@ -761,12 +751,12 @@ impl Cx {
         }
     }
 
-    fn fluent(&mut self, e: &Sexp) -> Option<Fluent> {
+    fn fluent(&mut self, e: &GSexp<'_>) -> Option<Fluent> {
         match e {
-            Sexp::List(l) => {
-                let inner: Vec<Sexp> = l.elements().collect();
+            GSexp::List(l) => {
+                let inner: Vec<GSexp<'_>> = l.elements().collect();
                 match inner.first() {
-                    Some(Sexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(Fluent {
+                    Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(Fluent {
                         func: self.name(t),
                         args: inner[1..].iter().filter_map(|a| self.term(a)).collect(),
                         span: self.span(l.range()),
@@ -777,7 +767,7 @@ impl Cx {
                     }
                 }
             }
-            Sexp::Atom(t) if t.kind() == SyntaxKind::Symbol => {
+            GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol => {
                 Some(Fluent { func: self.name(t), args: Vec::new(), span: self.span(t.text_range()) })
             }
             other => {
@@ -787,9 +777,9 @@ impl Cx {
         }
     }
 
-    fn num_expr(&mut self, e: &Sexp) -> NumExpr {
+    fn num_expr(&mut self, e: &GSexp<'_>) -> NumExpr {
         match e {
-            Sexp::Atom(t) => match t.kind() {
+            GSexp::Atom(t) => match t.kind() {
                 SyntaxKind::Number => {
                     NumExpr::Number(Number { text: t.text().into(), span: self.span(t.text_range()) })
                 }
@@ -806,8 +796,8 @@ impl Cx {
                     span: self.span(t.text_range()),
                 }),
             },
-            Sexp::List(l) => {
-                let inner: Vec<Sexp> = l.elements().collect();
+            GSexp::List(l) => {
+                let inner: Vec<GSexp<'_>> = l.elements().collect();
                 let span = self.span(l.range());
                 match inner.first().and_then(|h| h.atom_text()) {
                     Some(op @ ("+" | "-" | "*" | "/")) if inner.len() >= 2 => {
@@ -818,7 +808,7 @@ impl Cx {
                         NumExpr::Special("total-time".into(), span)
                     }
                     Some(h) if h.eq_ignore_ascii_case("duration") && inner.len() == 2 => match &inner[1] {
-                        Sexp::Atom(t) => NumExpr::TaskDuration(self.name(t), span),
+                        GSexp::Atom(t) => NumExpr::TaskDuration(self.name(t), span),
                         other => {
                             self.malformed(other, "expected a subtask id");
                             NumExpr::Special("error".into(), span)
@@ -833,30 +823,30 @@ impl Cx {
         }
     }
 
-    fn timed_head(inner: &[Sexp]) -> Option<TimeSpec> {
+    fn timed_head(inner: &[GSexp<'_>]) -> Option<TimeSpec> {
         match inner {
-            [at, which, Sexp::List(_)] if at.is_atom("at") && which.is_atom("start") => {
+            [at, which, GSexp::List(_)] if at.is_atom("at") && which.is_atom("start") => {
                 Some(TimeSpec::AtStart)
             }
-            [at, which, Sexp::List(_)] if at.is_atom("at") && which.is_atom("end") => Some(TimeSpec::AtEnd),
-            [over, all, Sexp::List(_)] if over.is_atom("over") && all.is_atom("all") => {
+            [at, which, GSexp::List(_)] if at.is_atom("at") && which.is_atom("end") => Some(TimeSpec::AtEnd),
+            [over, all, GSexp::List(_)] if over.is_atom("over") && all.is_atom("all") => {
                 Some(TimeSpec::OverAll)
             }
             _ => None,
         }
     }
 
-    fn quantified_params(&mut self, e: &Sexp) -> Vec<Typed> {
+    fn quantified_params(&mut self, e: &GSexp<'_>) -> Vec<Typed> {
         self.params(e)
     }
 
-    fn gd(&mut self, e: &Sexp) -> Gd {
-        let Sexp::List(l) = e else {
+    fn gd(&mut self, e: &GSexp<'_>) -> Gd {
+        let GSexp::List(l) = e else {
             self.malformed(e, "expected a condition in parentheses");
             return Gd::And(Vec::new(), self.span(e.range()));
         };
         let span = self.span(l.range());
-        let inner: Vec<Sexp> = l.elements().collect();
+        let inner: Vec<GSexp<'_>> = l.elements().collect();
         if let Some(ts) = Self::timed_head(&inner) {
             return Gd::Timed(ts, Box::new(self.gd(&inner[2])), span);
         }
@@ -895,7 +885,7 @@ impl Cx {
                 }
             },
             "preference" => match args {
-                [Sexp::Atom(n), body] => {
+                [GSexp::Atom(n), body] => {
                     let n = self.name(n);
                     Gd::Preference(Some(n), Box::new(self.gd(body)), span)
                 }
@@ -941,15 +931,15 @@ impl Cx {
         }
     }
 
-    fn modal(&mut self, h: &str, args: &[Sexp], span: TextRange) -> Gd {
+    fn modal(&mut self, h: &str, args: &[GSexp<'_>], span: TextRange) -> Gd {
         let mut gds = Vec::new();
         let mut ids = Vec::new();
         for a in args {
             match a {
-                Sexp::Atom(t) if t.kind() == SyntaxKind::Number => {}
-                Sexp::Atom(t) => ids.push(self.name(t)),
-                Sexp::List(l) if (l.head_is("start") || l.head_is("end")) && l.elements().count() == 2 => {
-                    if let Some(Sexp::Atom(t)) = l.elements().nth(1) {
+                GSexp::Atom(t) if t.kind() == SyntaxKind::Number => {}
+                GSexp::Atom(t) => ids.push(self.name(t)),
+                GSexp::List(l) if (l.head_is("start") || l.head_is("end")) && l.elements().count() == 2 => {
+                    if let Some(GSexp::Atom(t)) = l.elements().nth(1) {
                         ids.push(self.name(&t));
                     }
                 }
@@ -959,13 +949,13 @@ impl Cx {
         Gd::Modal(h.into(), gds, ids, span)
     }
 
-    fn effect(&mut self, e: &Sexp) -> Effect {
-        let Sexp::List(l) = e else {
+    fn effect(&mut self, e: &GSexp<'_>) -> Effect {
+        let GSexp::List(l) = e else {
             self.malformed(e, "expected an effect in parentheses");
             return Effect::And(Vec::new(), self.span(e.range()));
         };
         let span = self.span(l.range());
-        let inner: Vec<Sexp> = l.elements().collect();
+        let inner: Vec<GSexp<'_>> = l.elements().collect();
         if let Some(ts) = Self::timed_head(&inner) {
             return Effect::Timed(ts, Box::new(self.effect(&inner[2])), span);
         }
@@ -1031,15 +1021,15 @@ impl Cx {
         }
     }
 
-    fn init_element(&mut self, e: &Sexp) -> Option<InitElement> {
-        let Sexp::List(l) = e else {
+    fn init_element(&mut self, e: &GSexp<'_>) -> Option<InitElement> {
+        let GSexp::List(l) = e else {
             self.malformed(e, "expected an initial fact like `(p a b)`");
             return None;
         };
         let span = self.span(l.range());
-        let inner: Vec<Sexp> = l.elements().collect();
+        let inner: Vec<GSexp<'_>> = l.elements().collect();
         match inner.as_slice() {
-            [at, Sexp::Atom(n), lit @ Sexp::List(_)]
+            [at, GSexp::Atom(n), lit @ GSexp::List(_)]
                 if at.is_atom("at") && n.kind() == SyntaxKind::Number =>
             {
                 let time = Number { text: n.text().into(), span: self.span(n.text_range()) };
@@ -1047,10 +1037,10 @@ impl Cx {
                 Some(InitElement::Timed(time, Box::new(inner), span))
             }
             [not, x] if not.is_atom("not") => self.atom(x).map(|a| InitElement::NotFact(a, span)),
-            [eq, f @ Sexp::List(_), v] if eq.is_atom("=") => {
+            [eq, f @ GSexp::List(_), v] if eq.is_atom("=") => {
                 let f = self.fluent(f)?;
                 match v {
-                    Sexp::Atom(t) if t.kind() == SyntaxKind::Symbol => {
+                    GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol => {
                         Some(InitElement::AssignObject(f, self.name(t), span))
                     }
                     _ => {

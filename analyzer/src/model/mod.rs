@@ -7,18 +7,27 @@ mod lower;
 pub use lower::{Lowered, lower_chunk, lower_list};
 
 use rowan::TextRange;
+/// A short string stored inline (names are short): no allocation per name.
+pub type Str = compact_str::CompactString;
 
 /// A name as written, with its lower-cased key (PDDL names are case-insensitive).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Name {
-    pub text: Box<str>,
-    pub key: Box<str>,
+    pub text: Str,
+    pub key: Str,
     pub span: TextRange,
 }
 
 impl Name {
     pub fn new(text: &str, span: TextRange) -> Name {
-        Name { text: text.into(), key: text.to_ascii_lowercase().into(), span }
+        let text = Str::from(text);
+        // Most names are lower case already: share the text instead of copying it.
+        let key = if text.bytes().any(|b| b.is_ascii_uppercase()) {
+            Str::from(text.to_ascii_lowercase())
+        } else {
+            text.clone()
+        };
+        Name { text, key, span }
     }
 }
 

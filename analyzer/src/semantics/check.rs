@@ -3,6 +3,9 @@
 //! A check reads its item's model and the symbol tables only, so editing one
 //! action re-runs the check of that action alone.
 
+use crate::model::Str;
+use std::borrow::Cow;
+
 use rowan::TextRange;
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -29,10 +32,10 @@ pub struct ItemDiag<'db> {
 /// features (for missing-requirement warnings, with the first place each is used).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct Uses {
-    pub types: FxHashSet<Box<str>>,
-    pub predicates: FxHashSet<Box<str>>,
-    pub functions: FxHashSet<Box<str>>,
-    pub constants: FxHashSet<Box<str>>,
+    pub types: FxHashSet<Str>,
+    pub predicates: FxHashSet<Str>,
+    pub functions: FxHashSet<Str>,
+    pub constants: FxHashSet<Str>,
     pub features: Vec<(Feature, TextRange)>,
 }
 
@@ -160,11 +163,11 @@ struct Checker<'a, 'db> {
     prob: Option<&'a ProblemSymbols<'db>>,
     /// Whether the domain is known: without it, names cannot be checked.
     known_domain: bool,
-    scope: Vec<(Box<str>, TypeSet)>,
+    scope: Vec<(Str, TypeSet)>,
     /// Whether `?duration` is defined here.
     durative: bool,
     /// Subtask ids of the task network being checked.
-    ids: Option<FxHashSet<Box<str>>>,
+    ids: Option<FxHashSet<Str>>,
     out: ItemCheck<'db>,
 }
 
@@ -193,11 +196,11 @@ pub fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Opt
         .map(|(_, c)| c)
 }
 
-fn describe(t: &[Box<str>]) -> String {
+fn describe(t: &[Str]) -> String {
     if t.len() == 1 { format!("`{}`", t[0]) } else { format!("`(either {})`", t.join(" ")) }
 }
 
-impl<'db> Checker<'_, 'db> {
+impl<'a, 'db> Checker<'a, 'db> {
     fn loc(&self, span: TextRange) -> Loc<'db> {
         Loc { item: self.item, span }
     }
@@ -245,7 +248,7 @@ impl<'db> Checker<'_, 'db> {
                 for s in sigs {
                     self.params(&s.params, false);
                     if let TypeRef::Named(n) = &s.result
-                        && n.key.as_ref() != "number"
+                        && n.key.as_str() != "number"
                     {
                         self.type_ref(&s.result);
                     }
@@ -410,11 +413,9 @@ impl<'db> Checker<'_, 'db> {
         self.feature(Feature::Hierarchy, m.name.span);
         self.params(&m.params, true);
         if let Some(call) = &m.task {
-            match self.dom.tasks.get(&call.name.key) {
-                Some(decl) => {
-                    let decl = decl.clone();
-                    self.call_args(call, &decl, "task");
-                }
+            let dom = self.dom;
+            match dom.tasks.get(&call.name.key) {
+                Some(decl) => self.call_args(call, decl, "task"),
                 None if !self.known_domain => {}
                 None => {
                     if let Some(action) = self.dom.actions.get(&call.name.key) {
@@ -447,7 +448,7 @@ impl<'db> Checker<'_, 'db> {
 
     /// Checks a task network; leaves its ids in `self.ids` for duration constraints.
     fn network(&mut self, net: &TaskNetwork) {
-        let mut ids: FxHashMap<Box<str>, TextRange> = FxHashMap::default();
+        let mut ids: FxHashMap<Str, TextRange> = FxHashMap::default();
         for st in &net.subtasks {
             if let Some(id) = &st.id
                 && let Some(first) = ids.insert(id.key.clone(), id.span)
@@ -456,11 +457,9 @@ impl<'db> Checker<'_, 'db> {
                 let loc = self.loc(first);
                 self.diag(codes::DUPLICATE, id.span, msg).related.push((loc, "first used here".into()));
             }
-            match self.dom.callable(&st.call.name.key) {
-                Some(decl) => {
-                    let decl = decl.clone();
-                    self.call_args(&st.call, &decl, "subtask");
-                }
+            let dom = self.dom;
+            match dom.callable(&st.call.name.key) {
+                Some(decl) => self.call_args(&st.call, decl, "subtask"),
                 None if !self.known_domain => {}
                 None => {
                     let cands = self.dom.actions.keys().chain(self.dom.tasks.keys()).map(|k| &**k).collect();
@@ -499,74 +498,60 @@ impl<'db> Checker<'_, 'db> {
         }
     }
 
-    /// Reports a cycle of strict orderings (`t1 < t2 < … < t1`).
+    /// Reports a cycle of strict orderings (`t1 < t2 < … < t1`): a strongly
+    /// connected component of the time-point graph with a strict edge inside.
     fn ordering_cycles(&mut self, orderings: &[Ordering]) {
-        // Nodes are (id, start?) time points; a whole subtask before means its end.
-        let mut edges: FxHashMap<TimePoint, Vec<(TimePoint, usize, bool)>> = FxHashMap::default();
-        let point = |p: &OrderPoint, left: bool| -> (Box<str>, bool) {
+        // Nodes are time points (subtask id, start?); a whole subtask before another means its end.
+        let mut index: FxHashMap<TimePoint, usize> = FxHashMap::default();
+        let mut node = |p: &OrderPoint, left: bool| -> usize {
             let start = match p.endpoint {
                 Endpoint::Start => true,
                 Endpoint::End => false,
                 Endpoint::Whole => !left,
             };
-            (p.id.key.clone(), start)
+            let n = index.len();
+            *index.entry((p.id.key.clone(), start)).or_insert(n)
         };
+        // (from, to, strict, ordering index)
+        let mut edges: Vec<(usize, usize, bool, usize)> = Vec::new();
         for (i, o) in orderings.iter().enumerate() {
             if o.negated {
                 continue;
             }
-            let (a, b) = (point(&o.left, true), point(&o.right, false));
             let (from, to, strict) = match o.op {
-                CmpOp::Lt => (a, b, true),
-                CmpOp::Le => (a, b, false),
-                CmpOp::Gt => (point(&o.right, true), point(&o.left, false), true),
-                CmpOp::Ge => (point(&o.right, true), point(&o.left, false), false),
+                CmpOp::Lt => (node(&o.left, true), node(&o.right, false), true),
+                CmpOp::Le => (node(&o.left, true), node(&o.right, false), false),
+                CmpOp::Gt => (node(&o.right, true), node(&o.left, false), true),
+                CmpOp::Ge => (node(&o.right, true), node(&o.left, false), false),
                 CmpOp::Eq => continue,
             };
-            edges.entry(from).or_default().push((to, i, strict));
+            edges.push((from, to, strict, i));
         }
         // A subtask starts before it ends.
-        let ids: Vec<Box<str>> = edges.keys().map(|(id, _)| id.clone()).collect();
-        for id in ids {
-            edges.entry((id.clone(), true)).or_default().push(((id, false), usize::MAX, false));
-        }
-        // Depth-first search for a cycle with a strict edge.
-        let nodes: Vec<_> = {
-            let mut n: Vec<_> = edges.keys().cloned().collect();
-            n.sort();
-            n
-        };
-        for start in &nodes {
-            let mut stack = vec![(start.clone(), Vec::<(usize, bool)>::new())];
-            let mut visited: FxHashSet<(Box<str>, bool)> = FxHashSet::default();
-            while let Some((node, path)) = stack.pop() {
-                for (next, idx, strict) in edges.get(&node).into_iter().flatten() {
-                    let mut p = path.clone();
-                    p.push((*idx, *strict));
-                    if next == start {
-                        if p.iter().any(|(_, s)| *s) {
-                            let mut involved: Vec<usize> =
-                                p.iter().map(|(i, _)| *i).filter(|i| *i != usize::MAX).collect();
-                            involved.sort();
-                            involved.dedup();
-                            let first = orderings[involved[0]].span;
-                            let related: Vec<_> = involved[1..]
-                                .iter()
-                                .map(|&i| (self.loc(orderings[i].span), "part of the cycle".to_string()))
-                                .collect();
-                            let msg =
-                                "these orderings form a cycle: no schedule can satisfy them".to_string();
-                            self.diag(codes::ORDERING_CYCLE, first, msg).related = related;
-                            return;
-                        }
-                        continue;
-                    }
-                    if visited.insert(next.clone()) {
-                        stack.push((next.clone(), p));
-                    }
-                }
+        let points: Vec<(TimePoint, usize)> = index.iter().map(|(k, v)| (k.clone(), *v)).collect();
+        for ((id, start), n) in &points {
+            if *start && let Some(&end) = index.get(&(id.clone(), false)) {
+                edges.push((*n, end, false, usize::MAX));
             }
         }
+        let comp = strongly_connected(index.len(), &edges);
+        let Some(&(a, _, _, _)) = edges.iter().find(|(a, b, strict, _)| *strict && comp[*a] == comp[*b])
+        else {
+            return;
+        };
+        let mut involved: Vec<usize> = edges
+            .iter()
+            .filter(|(x, y, _, i)| comp[*x] == comp[a] && comp[*y] == comp[a] && *i != usize::MAX)
+            .map(|e| e.3)
+            .collect();
+        involved.sort_unstable();
+        involved.dedup();
+        let related: Vec<_> = involved[1..]
+            .iter()
+            .map(|&i| (self.loc(orderings[i].span), "part of the cycle".to_string()))
+            .collect();
+        let msg = "these orderings form a cycle: no schedule can satisfy them".to_string();
+        self.diag(codes::ORDERING_CYCLE, orderings[involved[0]].span, msg).related = related;
     }
 
     fn call_args(&mut self, call: &TaskCall, decl: &SigDecl<'db>, _what: &str) {
@@ -575,7 +560,6 @@ impl<'db> Checker<'_, 'db> {
 
     /// Checks arity and argument types against a declaration.
     fn args(&mut self, name: &Name, args: &[Term], span: TextRange, decl: &SigDecl<'db>, wildcards: bool) {
-        let types: Vec<Option<TypeSet>> = args.iter().map(|a| self.term(a, wildcards)).collect();
         let kind = match decl.kind {
             DeclKind::Predicate | DeclKind::Derived => "predicate",
             DeclKind::Function => "function",
@@ -583,6 +567,9 @@ impl<'db> Checker<'_, 'db> {
             DeclKind::Task => "task",
         };
         if args.len() != decl.params.len() {
+            for a in args {
+                self.term(a, wildcards);
+            }
             let msg = format!(
                 "{kind} `{}` takes {} argument{}, but {} {} given",
                 name.text,
@@ -594,20 +581,19 @@ impl<'db> Checker<'_, 'db> {
             self.diag(codes::ARITY, span, msg).related.push((decl.loc, "declared here".into()));
             return;
         }
-        for ((arg, ty), param) in args.iter().zip(&types).zip(&decl.params) {
+        for (arg, param) in args.iter().zip(&decl.params) {
+            let Some(ty) = self.term(arg, wildcards) else { continue };
             // A variable of a supertype narrows to the parameter's type (HDDL's
             // "sortof" semantics); an object must fit.
-            let ok = |ty: &TypeSet| match arg {
-                Term::Var(_) => self.dom.compatible(ty, param),
-                _ => self.dom.fits(ty, param),
+            let ok = match arg {
+                Term::Var(_) => self.dom.compatible(&ty, param),
+                _ => self.dom.fits(&ty, param),
             };
-            if let Some(ty) = ty
-                && !ok(ty)
-            {
+            if !ok {
                 let msg = format!(
                     "`{}` has type {}, but {kind} `{}` expects {} here",
                     term_text(arg),
-                    describe(ty),
+                    describe(&ty),
                     name.text,
                     describe(param)
                 );
@@ -619,13 +605,14 @@ impl<'db> Checker<'_, 'db> {
     }
 
     /// The type of a term, reporting what is undefined.
-    fn term(&mut self, t: &Term, wildcards: bool) -> Option<TypeSet> {
+    fn term(&mut self, t: &Term, wildcards: bool) -> Option<Cow<'a, [Str]>> {
+        let dom = self.dom;
         match t {
             Term::Var(v) => {
                 if let Some((_, ty)) = self.scope.iter().rev().find(|(n, _)| *n == v.key) {
-                    return Some(ty.clone());
+                    return Some(Cow::Owned(ty.clone()));
                 }
-                if v.key.as_ref() == "?duration" && self.durative {
+                if v.key.as_str() == "?duration" && self.durative {
                     return None;
                 }
                 if !wildcards {
@@ -648,11 +635,11 @@ impl<'db> Checker<'_, 'db> {
                     return None;
                 }
                 self.out.uses.constants.insert(c.key.clone());
-                if let Some(d) = self.dom.constants.get(&c.key) {
-                    return Some(d.ty.clone());
+                if let Some(d) = dom.constants.get(&c.key) {
+                    return Some(Cow::Borrowed(&d.ty));
                 }
                 if let Some(d) = self.prob.and_then(|p| p.objects.get(&c.key)) {
-                    return Some(d.ty.clone());
+                    return Some(Cow::Borrowed(&d.ty));
                 }
                 if self.prob.is_none() && self.known_domain {
                     // pandaPIparser accepts a domain constant that its problems declare as an object.
@@ -669,7 +656,7 @@ impl<'db> Checker<'_, 'db> {
                         self.diag(codes::CONSTANT_FROM_PROBLEM, c.span, msg)
                             .related
                             .push((obj.loc, "declared here".into()));
-                        return Some(obj.ty);
+                        return Some(Cow::Owned(obj.ty));
                     }
                     if problems.is_empty() {
                         let msg = format!(
@@ -694,13 +681,13 @@ impl<'db> Checker<'_, 'db> {
         }
     }
 
-    fn fluent(&mut self, f: &Fluent) -> Option<TypeSet> {
+    fn fluent(&mut self, f: &Fluent) -> Option<Cow<'a, [Str]>> {
         self.out.uses.functions.insert(f.func.key.clone());
-        match self.dom.functions.get(&f.func.key) {
+        let dom = self.dom;
+        match dom.functions.get(&f.func.key) {
             Some(decl) => {
-                let decl = decl.clone();
-                self.args(&f.func, &f.args, f.span, &decl, false);
-                decl.result.clone()
+                self.args(&f.func, &f.args, f.span, decl, false);
+                decl.result.as_deref().map(Cow::Borrowed)
             }
             None => {
                 for a in &f.args {
@@ -716,12 +703,12 @@ impl<'db> Checker<'_, 'db> {
     }
 
     fn atom(&mut self, a: &Atom, wildcards: bool) {
-        self.out.uses.predicates.insert(a.pred.key.clone());
-        match self.dom.predicates.get(&a.pred.key) {
-            Some(decl) => {
-                let decl = decl.clone();
-                self.args(&a.pred, &a.args, a.span, &decl, wildcards);
-            }
+        if !self.out.uses.predicates.contains(&a.pred.key) {
+            self.out.uses.predicates.insert(a.pred.key.clone());
+        }
+        let dom = self.dom;
+        match dom.predicates.get(&a.pred.key) {
+            Some(decl) => self.args(&a.pred, &a.args, a.span, decl, wildcards),
             None => {
                 for t in &a.args {
                     self.term(t, wildcards);
@@ -886,7 +873,59 @@ impl<'db> Checker<'_, 'db> {
 }
 
 /// A subtask's start (`true`) or end.
-type TimePoint = (Box<str>, bool);
+type TimePoint = (Str, bool);
+
+/// The strongly connected component of each node (Kosaraju, iterative).
+fn strongly_connected(n: usize, edges: &[(usize, usize, bool, usize)]) -> Vec<usize> {
+    let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut rev: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for &(a, b, _, _) in edges {
+        out[a].push(b);
+        rev[b].push(a);
+    }
+    // First pass: finishing order.
+    let mut order = Vec::with_capacity(n);
+    let mut seen = vec![false; n];
+    for s in 0..n {
+        if seen[s] {
+            continue;
+        }
+        seen[s] = true;
+        let mut stack = vec![(s, 0usize)];
+        while let Some((v, i)) = stack.pop() {
+            if i < out[v].len() {
+                stack.push((v, i + 1));
+                let w = out[v][i];
+                if !seen[w] {
+                    seen[w] = true;
+                    stack.push((w, 0));
+                }
+            } else {
+                order.push(v);
+            }
+        }
+    }
+    // Second pass on the reversed graph, in reverse finishing order.
+    let mut comp = vec![usize::MAX; n];
+    let mut c = 0;
+    for &s in order.iter().rev() {
+        if comp[s] != usize::MAX {
+            continue;
+        }
+        let mut stack = vec![s];
+        comp[s] = c;
+        while let Some(v) = stack.pop() {
+            for &w in &rev[v] {
+                if comp[w] == usize::MAX {
+                    comp[w] = c;
+                    stack.push(w);
+                }
+            }
+        }
+        c += 1;
+    }
+    comp
+}
 
 fn term_text(t: &Term) -> String {
     match t {

@@ -5,6 +5,7 @@ pub mod check;
 pub mod resolve;
 pub mod symbols;
 
+use crate::model::Str;
 use rowan::TextRange;
 use rustc_hash::FxHashSet;
 
@@ -135,7 +136,7 @@ fn duplicates(db: &dyn Db, dups: &[symbols::Duplicate<'_>], out: &mut Vec<Diagno
 }
 
 /// The requirements declared by a unit and, for a problem, by its domain.
-fn declared_requirements(db: &dyn Db, unit: Unit<'_>) -> FxHashSet<Box<str>> {
+fn declared_requirements(db: &dyn Db, unit: Unit<'_>) -> FxHashSet<Str> {
     let mut reqs = match unit.kind(db) {
         UnitKind::Domain => domain_symbols(db, unit).requirements.clone(),
         _ => problem_symbols(db, unit).requirements.clone(),
@@ -169,10 +170,7 @@ fn requirement_checks(db: &dyn Db, unit: Unit<'_>, out: &mut Vec<Diagnostic>) {
             let mut d = at(db, codes::MISSING_REQUIREMENT, Loc { item, span }, message);
             if let Some(r) = req_item {
                 let (file, range) = (r.file(db), r.offset(db));
-                let len = match r.syntax(db) {
-                    crate::db::ItemSyntax::List(g) => g.0.text_len(),
-                    crate::db::ItemSyntax::Chunk(_) => 0.into(),
-                };
+                let len = r.syntax(db).text_len();
                 let close = TextRange::empty(range + len - rowan::TextSize::from(1));
                 d.related.push(Related {
                     file,

@@ -3,6 +3,7 @@
 //! Locations are item-relative ([`Loc`]), so a table stays equal when text
 //! moves around it, and the checks that read it are not re-run.
 
+use crate::model::Str;
 use rowan::TextRange;
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -17,7 +18,7 @@ pub struct Loc<'db> {
 }
 
 /// The alternatives of a type annotation, lower-cased; `object` when implicit.
-pub type TypeSet = Vec<Box<str>>;
+pub type TypeSet = Vec<Str>;
 
 pub fn type_set(t: &TypeRef) -> TypeSet {
     match t {
@@ -28,7 +29,7 @@ pub fn type_set(t: &TypeRef) -> TypeSet {
 
 #[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
 pub struct TypeDecl<'db> {
-    pub parents: Vec<Box<str>>,
+    pub parents: Vec<Str>,
     pub locs: Vec<Loc<'db>>,
 }
 
@@ -47,7 +48,7 @@ pub struct SigDecl<'db> {
     pub kind: DeclKind,
     pub params: Vec<TypeSet>,
     /// Parameter names, for hover.
-    pub param_names: Vec<Box<str>>,
+    pub param_names: Vec<Str>,
     pub result: Option<TypeSet>,
     pub loc: Loc<'db>,
 }
@@ -60,7 +61,7 @@ pub struct ObjDecl<'db> {
 
 #[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
 pub struct MethodDecl<'db> {
-    pub task: Option<Box<str>>,
+    pub task: Option<Str>,
     pub loc: Loc<'db>,
 }
 
@@ -68,7 +69,7 @@ pub struct MethodDecl<'db> {
 #[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
 pub struct Duplicate<'db> {
     pub what: &'static str,
-    pub name: Box<str>,
+    pub name: Str,
     pub first: Loc<'db>,
     pub again: Loc<'db>,
 }
@@ -76,20 +77,20 @@ pub struct Duplicate<'db> {
 /// Everything a domain declares.
 #[derive(Debug, Clone, PartialEq, Eq, Default, salsa::SalsaValue)]
 pub struct DomainSymbols<'db> {
-    pub requirements: FxHashSet<Box<str>>,
+    pub requirements: FxHashSet<Str>,
     pub has_types_section: bool,
-    pub types: FxHashMap<Box<str>, TypeDecl<'db>>,
+    pub types: FxHashMap<Str, TypeDecl<'db>>,
     /// Every declared type's ancestors (itself included, `object` last).
-    pub ancestors: FxHashMap<Box<str>, Vec<Box<str>>>,
-    pub constants: FxHashMap<Box<str>, ObjDecl<'db>>,
-    pub predicates: FxHashMap<Box<str>, SigDecl<'db>>,
-    pub functions: FxHashMap<Box<str>, SigDecl<'db>>,
-    pub actions: FxHashMap<Box<str>, SigDecl<'db>>,
-    pub tasks: FxHashMap<Box<str>, SigDecl<'db>>,
-    pub methods: FxHashMap<Box<str>, MethodDecl<'db>>,
+    pub ancestors: FxHashMap<Str, Vec<Str>>,
+    pub constants: FxHashMap<Str, ObjDecl<'db>>,
+    pub predicates: FxHashMap<Str, SigDecl<'db>>,
+    pub functions: FxHashMap<Str, SigDecl<'db>>,
+    pub actions: FxHashMap<Str, SigDecl<'db>>,
+    pub tasks: FxHashMap<Str, SigDecl<'db>>,
+    pub methods: FxHashMap<Str, MethodDecl<'db>>,
     pub duplicates: Vec<Duplicate<'db>>,
     /// Types whose ancestry loops back to themselves.
-    pub cyclic_types: Vec<Box<str>>,
+    pub cyclic_types: Vec<Str>,
 }
 
 impl<'db> DomainSymbols<'db> {
@@ -106,7 +107,7 @@ impl<'db> DomainSymbols<'db> {
     }
 
     /// Whether every alternative of `arg` fits some alternative of `param`.
-    pub fn fits(&self, arg: &[Box<str>], param: &[Box<str>]) -> bool {
+    pub fn fits(&self, arg: &[Str], param: &[Str]) -> bool {
         arg.iter()
             .all(|a| !self.is_type(a) || param.iter().any(|p| !self.is_type(p) || self.is_subtype(a, p)))
     }
@@ -114,7 +115,7 @@ impl<'db> DomainSymbols<'db> {
     /// Whether some object could have both types: every alternative of `arg`
     /// fits `param`, or they have a common subtype (a variable of a supertype
     /// narrows to the parameter's type).
-    pub fn compatible(&self, arg: &[Box<str>], param: &[Box<str>]) -> bool {
+    pub fn compatible(&self, arg: &[Str], param: &[Str]) -> bool {
         self.fits(arg, param)
             || arg.iter().any(|a| {
                 param.iter().any(|p| {
@@ -141,7 +142,7 @@ fn sig<'db>(kind: DeclKind, params: &[Typed], result: Option<TypeSet>, loc: Loc<
 }
 
 fn insert<'db, T>(
-    map: &mut FxHashMap<Box<str>, T>,
+    map: &mut FxHashMap<Str, T>,
     dups: &mut Vec<Duplicate<'db>>,
     what: &'static str,
     name: &str,
@@ -258,7 +259,7 @@ pub fn domain_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> DomainSymbols<'d
         }
     }
     // A type used as a parent is declared by that use (VAL and pandaPIparser agree).
-    let implicit: Vec<(Box<str>, Loc<'db>)> = s
+    let implicit: Vec<(Str, Loc<'db>)> = s
         .types
         .values()
         .flat_map(|d| d.parents.iter().map(move |p| (p.clone(), d.locs[0])))
@@ -268,10 +269,10 @@ pub fn domain_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> DomainSymbols<'d
         s.types.entry(p).or_insert(TypeDecl { parents: Vec::new(), locs: vec![loc] });
     }
     // Ancestors, with cycle detection.
-    let names: Vec<Box<str>> = s.types.keys().cloned().collect();
+    let names: Vec<Str> = s.types.keys().cloned().collect();
     for name in names {
-        let mut seen: Vec<Box<str>> = vec![name.clone()];
-        let mut stack: Vec<Box<str>> = s.types[&name].parents.clone();
+        let mut seen: Vec<Str> = vec![name.clone()];
+        let mut stack: Vec<Str> = s.types[&name].parents.clone();
         let mut cyclic = false;
         while let Some(t) = stack.pop() {
             if t == name {
@@ -301,8 +302,8 @@ pub fn domain_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> DomainSymbols<'d
 /// What a problem declares.
 #[derive(Debug, Clone, PartialEq, Eq, Default, salsa::SalsaValue)]
 pub struct ProblemSymbols<'db> {
-    pub requirements: FxHashSet<Box<str>>,
-    pub objects: FxHashMap<Box<str>, ObjDecl<'db>>,
+    pub requirements: FxHashSet<Str>,
+    pub objects: FxHashMap<Str, ObjDecl<'db>>,
     pub duplicates: Vec<Duplicate<'db>>,
 }
 

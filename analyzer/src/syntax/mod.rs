@@ -4,6 +4,7 @@
 //! model or LSP. A [`Parse`] is a value: printing its tree gives back the text,
 //! byte for byte, whatever the text is.
 
+mod green;
 mod kind;
 mod lexer;
 mod parser;
@@ -12,6 +13,7 @@ mod sexp;
 
 use std::sync::Arc;
 
+pub use green::{GAtom, GList, GSexp};
 pub use kind::{Lang, SyntaxElement, SyntaxKind, SyntaxNode, SyntaxToken};
 pub use lexer::classify_atom;
 pub use parser::{FIELD_KEYWORDS, ITEM_HEADS, SECTION_HEADS, SyntaxError};
