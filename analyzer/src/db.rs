@@ -368,7 +368,10 @@ pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> 
         .errors
         .iter()
         .map(|e| Diagnostic {
-            code: if e.message.starts_with("missing") { codes::MISSING_PAREN } else { codes::EXTRA_PAREN },
+            code: match e.kind {
+                syntax::SyntaxErrorKind::MissingParen => codes::MISSING_PAREN,
+                syntax::SyntaxErrorKind::ExtraParen => codes::EXTRA_PAREN,
+            },
             severity: Severity::Error,
             file,
             range: e.range,

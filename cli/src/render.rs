@@ -106,14 +106,28 @@ impl Rendered<'_> {
             }
         }
         let (e, w) = self.counts();
-        let _ = writeln!(
-            out,
-            "checked {} file{}: {e} error{}, {w} warning{}",
-            self.files,
-            if self.files == 1 { "" } else { "s" },
-            if e == 1 { "" } else { "s" },
-            if w == 1 { "" } else { "s" }
-        );
+        let plural = |n: usize| if n == 1 { "" } else { "s" };
+        let unreadable = self.io_errors.len();
+        let _ = if unreadable > 0 {
+            writeln!(
+                out,
+                "checked {} file{}: {e} error{}, {w} warning{}; {unreadable} path{} could not be read",
+                self.files,
+                plural(self.files),
+                plural(e),
+                plural(w),
+                plural(unreadable)
+            )
+        } else {
+            writeln!(
+                out,
+                "checked {} file{}: {e} error{}, {w} warning{}",
+                self.files,
+                plural(self.files),
+                plural(e),
+                plural(w)
+            )
+        };
     }
 
     fn to_codespan(&self, d: &Diagnostic) -> Option<CsDiagnostic<usize>> {
@@ -186,7 +200,7 @@ impl Rendered<'_> {
             "io_errors": self.io_errors.iter().map(|(p, m)| json!({"path": p, "message": m})).collect::<Vec<_>>(),
             "summary": { "files": self.files, "errors": e, "warnings": w },
         });
-        println!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
+        print_stdout(&serde_json::to_string_pretty(&doc).unwrap_or_default());
     }
 
     fn sarif_region(&self, file: SourceFile, r: TextRange) -> Value {
@@ -196,8 +210,7 @@ impl Rendered<'_> {
         let (l2, c2) = self.sources.line_col(id, usize::from(r.end()));
         json!({
             "artifactLocation": { "uri": sarif_uri(&path) },
-            "region": { "startLine": l1, "startColumn": c1, "endLine": l2, "endColumn": c2,
-                        "charOffset": u32::from(r.start()), "charLength": u32::from(r.len()) },
+            "region": { "startLine": l1, "startColumn": c1, "endLine": l2, "endColumn": c2 },
         })
     }
 
@@ -257,12 +270,17 @@ impl Rendered<'_> {
                 "results": results,
             } ],
         });
-        println!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
+        print_stdout(&serde_json::to_string_pretty(&doc).unwrap_or_default());
     }
 
     pub fn github(&self) {
+        let mut out = String::new();
         for (path, message) in self.io_errors {
-            println!("::error file={},title=hipop::{}", escape_property(path), escape_data(message));
+            out.push_str(&format!(
+                "::error file={},title=hipop::{}\n",
+                escape_property(path),
+                escape_data(message)
+            ));
         }
         for d in self.diagnostics {
             let path = self.path(d.file);
@@ -274,13 +292,22 @@ impl Rendered<'_> {
             let Some(id) = self.sources.id(d.file) else { continue };
             let (l1, c1) = self.sources.line_col(id, usize::from(d.range.start()));
             let (l2, c2) = self.sources.line_col(id, usize::from(d.range.end()));
-            println!(
-                "::{level} file={},line={l1},col={c1},endLine={l2},endColumn={c2},title={}::{}",
+            out.push_str(&format!(
+                "::{level} file={},line={l1},col={c1},endLine={l2},endColumn={c2},title={}::{}\n",
                 escape_property(&path),
                 escape_property(&format!("{} {}", d.code.id, d.code.name)),
                 escape_data(&d.message)
-            );
+            ));
         }
+        print_stdout(out.trim_end_matches('\n'));
+    }
+}
+
+/// Prints to stdout; a closed pipe (`hipop check … | head`) ends the output quietly.
+fn print_stdout(text: &str) {
+    let mut out = std::io::stdout().lock();
+    if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
+        std::process::exit(0);
     }
 }
 

@@ -51,6 +51,35 @@ struct Cx {
     diags: Vec<LocalDiag>,
 }
 
+/// A subtask id, `(start id)` or `(end id)`.
+fn is_order_point(e: &GSexp<'_>) -> bool {
+    match e {
+        GSexp::Atom(t) => t.kind() == SyntaxKind::Symbol,
+        GSexp::List(l) => {
+            (l.head_is("start") || l.head_is("end"))
+                && l.elements().count() == 2
+                && l.elements()
+                    .nth(1)
+                    .is_some_and(|x| x.as_atom().is_some_and(|t| t.kind() == SyntaxKind::Symbol))
+        }
+    }
+}
+
+/// `(op a b)` or `(a op b)` with `op` a comparison and `a`, `b` order points
+/// (`=` between two plain names stays an equality of objects).
+fn is_ordering_shape(inner: &[GSexp<'_>]) -> bool {
+    let is_op = |s: &GSexp<'_>| s.atom_text().and_then(CmpOp::parse).is_some();
+    match inner {
+        [op, a, b] if is_op(op) => {
+            is_order_point(a)
+                && is_order_point(b)
+                && !(op.is_atom("=") && a.as_atom().is_some() && b.as_atom().is_some())
+        }
+        [a, op, b] if is_op(op) => is_order_point(a) && is_order_point(b),
+        _ => false,
+    }
+}
+
 /// The elements of `(and a b …)`, of `()`, or the element itself.
 fn conjuncts<'t>(e: &GSexp<'t>) -> Vec<GSexp<'t>> {
     match e {
@@ -363,6 +392,15 @@ impl Cx {
                             self.span(t.text_range()),
                             format!("`{}` needs a value", t.text()),
                         );
+                    } else if let Some((_, first, _)) = out.iter().find(|(k, _, _)| *k == key) {
+                        let first = *first;
+                        let d = LocalDiag::new(
+                            codes::DUPLICATE,
+                            self.span(t.text_range()),
+                            format!("`{}` is given twice in {what}: only one is allowed", t.text()),
+                        )
+                        .with_related(first, "first given here");
+                        self.diags.push(d);
                     } else {
                         out.push((key, self.span(t.text_range()), value));
                     }
@@ -851,11 +889,31 @@ impl Cx {
             return Gd::Timed(ts, Box::new(self.gd(&inner[2])), span);
         }
         let Some(head) = inner.first() else { return Gd::And(Vec::new(), span) };
+        // Orderings between subtasks inside `:constraints`: `(< t1 t2)`, `(t1 < t2)`,
+        // `(<= (end t1) (start t2))`.
+        if is_ordering_shape(&inner) {
+            return match self.ordering(e) {
+                Some(o) => Gd::Order(o),
+                None => Gd::And(Vec::new(), span),
+            };
+        }
         let Some(h) = head.atom_text().map(str::to_ascii_lowercase) else {
             self.malformed(head, "expected a predicate or a connective like `and`");
             return Gd::And(Vec::new(), span);
         };
         let args = &inner[1..];
+        // HDDL 2.1: `(at (start t1) gd)` / `(at (end t1) gd)`.
+        if h == "at"
+            && let [GSexp::List(point), body] = args
+            && (point.head_is("start") || point.head_is("end"))
+        {
+            let ids = match point.elements().nth(1) {
+                Some(GSexp::Atom(t)) => vec![self.name(&t)],
+                _ => Vec::new(),
+            };
+            let body = self.gd(body);
+            return Gd::Modal("at".into(), vec![body], ids, span);
+        }
         match h.as_str() {
             "and" => Gd::And(args.iter().map(|x| self.gd(x)).collect(), span),
             "or" => Gd::Or(args.iter().map(|x| self.gd(x)).collect(), span),

@@ -189,11 +189,16 @@ fn distance(a: &str, b: &str) -> usize {
 /// The closest of `candidates` to `name`, if close enough to be a typo.
 pub fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
     let limit = (name.len() / 3).clamp(1, 3);
-    candidates
-        .map(|c| (distance(name, c), c))
-        .filter(|(d, _)| *d <= limit)
-        .min_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(b.1)))
-        .map(|(_, c)| c)
+    let mut scored: Vec<(usize, &str)> =
+        candidates.map(|c| (distance(name, c), c)).filter(|(d, c)| *d <= limit && *c != name).collect();
+    scored.sort_unstable();
+    scored.dedup();
+    match scored.as_slice() {
+        // Two equally close names: a guess would be a coin toss.
+        [(d1, _), (d2, _), ..] if d1 == d2 => None,
+        [(_, c), ..] => Some(c),
+        [] => None,
+    }
 }
 
 fn describe(t: &[Str]) -> String {
@@ -230,7 +235,9 @@ impl<'a, 'db> Checker<'a, 'db> {
             ItemData::Header(_) | ItemData::DomainRef(_) | ItemData::Unknown => {}
             ItemData::Requirements(reqs) => self.requirements(reqs),
             ItemData::Types(types) => {
-                self.feature(Feature::Typing, types.first().map_or(TextRange::default(), |t| t.name.span));
+                if let Some(t) = types.first() {
+                    self.feature(Feature::Typing, t.name.span);
+                }
                 for t in types {
                     if self.dom.cyclic_types.contains(&t.name.key) && t.ty != TypeRef::Implicit {
                         let msg = format!("type `{}` is its own ancestor", t.name.text);
@@ -291,9 +298,24 @@ impl<'a, 'db> Checker<'a, 'db> {
             }
             ItemData::Metric(_, e) => self.num_expr(e),
             ItemData::Constraints(g) => {
-                self.feature(Feature::Constraints, TextRange::default());
+                self.feature(Feature::Constraints, gd_span(g));
                 self.gd(g, false);
             }
+        }
+    }
+
+    /// `at start`, `at end` and `over all` need a duration to refer to.
+    fn untimed_context(&mut self, ts: TimeSpec, span: TextRange) {
+        if !self.durative {
+            let what = match ts {
+                TimeSpec::AtStart => "at start",
+                TimeSpec::AtEnd => "at end",
+                TimeSpec::OverAll => "over all",
+            };
+            let msg = format!(
+                "`{what}` needs a duration: use it in a durative action, a durative method or a task with a `:duration`"
+            );
+            self.diag(codes::MALFORMED, span, msg);
         }
     }
 
@@ -411,6 +433,7 @@ impl<'a, 'db> Checker<'a, 'db> {
 
     fn method(&mut self, m: &Method) {
         self.feature(Feature::Hierarchy, m.name.span);
+        self.durative = m.durative || m.duration.is_some();
         self.params(&m.params, true);
         if let Some(call) = &m.task {
             let dom = self.dom;
@@ -443,6 +466,7 @@ impl<'a, 'db> Checker<'a, 'db> {
             self.effect(e);
         }
         self.ids = None;
+        self.durative = false;
         self.scope.clear();
     }
 
@@ -797,7 +821,10 @@ impl<'a, 'db> Checker<'a, 'db> {
                 self.gd(body, precondition);
                 self.scope.truncate(depth);
             }
-            Gd::Timed(_, inner, _) => self.gd(inner, precondition),
+            Gd::Timed(ts, inner, span) => {
+                self.untimed_context(*ts, *span);
+                self.gd(inner, precondition)
+            }
             Gd::Preference(_, inner, span) => {
                 self.feature(Feature::Preferences, *span);
                 self.gd(inner, precondition);
@@ -848,7 +875,10 @@ impl<'a, 'db> Checker<'a, 'db> {
                 self.fluent(f);
                 self.num_expr(v);
             }
-            Effect::Timed(_, inner, _) => self.effect(inner),
+            Effect::Timed(ts, inner, span) => {
+                self.untimed_context(*ts, *span);
+                self.effect(inner)
+            }
         }
     }
 

@@ -115,10 +115,24 @@ fn misplaced(db: &dyn Db, unit: Unit<'_>, item: Item<'_>, out: &mut Vec<Diagnost
     };
     if item.section(db).belongs_to_domain().is_some_and(|d| d != in_domain) {
         let (here, there) = if in_domain { ("a domain", "problem") } else { ("a problem", "domain") };
-        let span = TextRange::at(0.into(), 1.into());
+        // The section keyword (`:init`), or the first fact of an `:init` chunk.
+        let span = match item.syntax(db) {
+            crate::db::ItemSyntax::List(g) => crate::syntax::GList::root(&g.0, 0.into())
+                .and_then(|l| l.head())
+                .map_or(TextRange::at(0.into(), 1.into()), |h| h.range()),
+            chunk => TextRange::at(0.into(), chunk.text_len().min(1.into())),
+        };
+        if item.section(db) == Section::Init && item_is_later_chunk(db, unit, item) {
+            return;
+        }
         let message = format!("this section belongs in a {there}, not in {here}");
         out.push(at(db, codes::MISPLACED_SECTION, Loc { item, span }, message));
     }
+}
+
+/// Whether an `:init` chunk is not the first of its unit (one diagnostic per section).
+fn item_is_later_chunk(db: &dyn Db, unit: Unit<'_>, item: Item<'_>) -> bool {
+    unit.items(db).iter().find(|i| i.section(db) == Section::Init) != Some(&item)
 }
 
 fn duplicates(db: &dyn Db, dups: &[symbols::Duplicate<'_>], out: &mut Vec<Diagnostic>) {
@@ -151,6 +165,15 @@ fn declared_requirements(db: &dyn Db, unit: Unit<'_>) -> FxHashSet<Str> {
 
 fn requirement_checks(db: &dyn Db, unit: Unit<'_>, out: &mut Vec<Diagnostic>) {
     let declared = declared_requirements(db, unit);
+    // A problem does not repeat a missing requirement its domain already reports.
+    let mut domain_features: FxHashSet<Feature> = FxHashSet::default();
+    if unit.kind(db) == UnitKind::Problem
+        && let Some(d) = resolve_domain(db, unit).domain()
+    {
+        for &item in d.items(db) {
+            domain_features.extend(check_item(db, item).uses.features.iter().map(|(f, _)| *f));
+        }
+    }
     // With no `:requirements` at all, STRIPS is assumed and nothing is reported
     // beyond what the file uses — the common case of small hand-written files is
     // to list what they use, so absence is reported like any missing one.
@@ -161,6 +184,7 @@ fn requirement_checks(db: &dyn Db, unit: Unit<'_>, out: &mut Vec<Diagnostic>) {
             let (name, also) = feature.requirement();
             if declared.contains(name)
                 || also.iter().any(|a| declared.contains(*a))
+                || domain_features.contains(&feature)
                 || !reported.insert(feature)
             {
                 continue;
@@ -293,6 +317,8 @@ fn problem_checks(db: &dyn Db, unit: Unit<'_>, out: &mut Vec<Diagnostic>) {
     };
     match resolve_domain(db, unit) {
         Resolution::Found(_) => requirement_checks(db, unit, out),
+        // `(:domain)` without a name is already a malformed section.
+        Resolution::NoReference if domain_item.is_some() => {}
         Resolution::NoReference => out.push(Diagnostic {
             code: codes::MISSING_DOMAIN,
             severity: codes::MISSING_DOMAIN.severity,

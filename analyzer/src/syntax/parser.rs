@@ -18,9 +18,19 @@ use rowan::{GreenNode, GreenNodeBuilder, TextRange, TextSize};
 use super::kind::SyntaxKind;
 use super::lexer::{Token, lex};
 
+/// What is wrong with the parentheses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SyntaxErrorKind {
+    /// A list is not closed.
+    MissingParen,
+    /// A `)` closes nothing, or closes a list too early.
+    ExtraParen,
+}
+
 /// A syntax error: a span in the text and a one-line message.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct SyntaxError {
+    pub kind: SyntaxErrorKind,
     pub range: TextRange,
     pub message: String,
     /// The `(` that is not closed, for missing parentheses.
@@ -89,6 +99,11 @@ pub const FIELD_KEYWORDS: &[&str] = &[
     ":causal-links",
     ":causallinks",
 ];
+
+/// Whether `(atom` starts a section of a `define`.
+pub(crate) fn is_section_head(atom: &str) -> bool {
+    is_in(SECTION_HEADS, atom)
+}
 
 fn is_in(set: &[&str], atom: &str) -> bool {
     set.iter().any(|k| k.eq_ignore_ascii_case(atom))
@@ -175,8 +190,13 @@ impl<'t> Parser<'t> {
         })
     }
 
+    /// The head of a list, when it names the list (`define`, `:action`, `and`):
+    /// not a variable or a number, which would make a confusing message.
     fn head_text(&self, frame: &Frame) -> &'t str {
-        frame.head.map_or("", |r| &self.text[r])
+        match frame.head.map(|r| &self.text[r]) {
+            Some(h) if !h.starts_with('?') && super::lexer::classify_atom(h) != SyntaxKind::Number => h,
+            _ => "",
+        }
     }
 
     /// Closes the open lists above `keep` (a stack length), reporting the missing `)` once.
@@ -191,11 +211,11 @@ impl<'t> Parser<'t> {
         let outermost = self.stack[keep];
         let count = self.stack.len() - keep;
         let head = self.head_text(&innermost);
-        let what = if head.is_empty() { String::from("(") } else { format!("({head}") };
+        let what = if head.is_empty() { String::from("a list") } else { format!("`({head}`") };
         let message = if count == 1 {
-            format!("missing `)`: `{what}` is not closed")
+            format!("missing `)`: {what} is not closed")
         } else {
-            format!("missing {count} `)`: `{what}` and the lists around it are not closed")
+            format!("missing {count} `)`: {what} and the lists around it are not closed")
         };
         let outer_head = self.head_text(&outermost);
         let related = (
@@ -206,7 +226,12 @@ impl<'t> Parser<'t> {
                 format!("this `({outer_head}` is not closed")
             },
         );
-        self.errors.push(SyntaxError { range: innermost.last, message, related: Some(related) });
+        self.errors.push(SyntaxError {
+            kind: SyntaxErrorKind::MissingParen,
+            range: innermost.last,
+            message,
+            related: Some(related),
+        });
         while self.stack.len() > keep {
             let frame = self.stack.pop().expect("non-empty stack");
             if !frame.virtual_ {
@@ -302,12 +327,26 @@ impl<'t> Parser<'t> {
             return;
         }
         let next = self.next_significant(self.pos + 1);
+        let parent_is_define =
+            self.stack.len() >= 2 && self.stack[self.stack.len() - 2].category == Category::Define;
+        let names_section = top.head.is_some_and(|h| self.text[h].starts_with(':'));
         let extra = match (top.category, next) {
             (Category::Item, Some(j)) => {
                 self.tokens[j].kind == SyntaxKind::Keyword && is_in(FIELD_KEYWORDS, self.token_text(j))
             }
             (Category::Define, Some(j)) => {
                 self.tokens[j].kind == SyntaxKind::LParen && self.starts_section(j)
+            }
+            // A section of a `define` closed right before a list that is no
+            // section (`(:init (at a b)) (road a b))`): the `)` is extra.
+            (Category::Other, Some(j)) if parent_is_define && names_section => {
+                self.tokens[j].kind == SyntaxKind::LParen
+                    && self.next_significant(j + 1).is_some_and(|k| {
+                        matches!(
+                            self.tokens[k].kind,
+                            SyntaxKind::Symbol | SyntaxKind::Variable | SyntaxKind::Number
+                        )
+                    })
             }
             _ => false,
         };
@@ -332,7 +371,7 @@ impl<'t> Parser<'t> {
         self.builder.start_node(SyntaxKind::Error.into());
         self.bump();
         self.builder.finish_node();
-        self.errors.push(SyntaxError { range, message, related: None });
+        self.errors.push(SyntaxError { kind: SyntaxErrorKind::ExtraParen, range, message, related: None });
     }
 
     /// Parses a whole file.

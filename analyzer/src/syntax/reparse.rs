@@ -56,7 +56,13 @@ pub(super) fn reparse_list(old: &Parse, edit: &TextEdit) -> Option<Parse> {
     ancestors.reverse();
     let green = Parser::new(&new_text).parse_list_in(&ancestors)?;
     let new_list = List(super::SyntaxNode::new_root(green.clone()));
-    if ancestor_kind(new_list.head_text().as_deref()) != ancestor_kind(list.head_text().as_deref()) {
+    // Recovery at the list's own `(` and `)` depends on its head: it must keep its role.
+    let role = |l: &List| {
+        let head = l.head_text();
+        let h = head.as_deref().unwrap_or("");
+        (ancestor_kind(head.as_deref()), h.starts_with(':'), super::parser::is_section_head(h))
+    };
+    if role(&new_list) != role(&list) {
         return None;
     }
     debug_assert_eq!(green.kind(), SyntaxKind::List.into());

@@ -16,6 +16,12 @@ const DOMAIN: &str = "(define (domain d)
   (:action b :parameters (?x) :precondition (q ?x) :effect (p ?x)))
 ";
 
+const PROBLEM: &str = "(define (problem p) (:domain d)
+  (:objects a b - thing)
+  (:init (p a) (q b) (= (f a) 3))
+  (foo) (:goal (and (p b))))
+";
+
 #[test]
 fn well_formed_file_has_no_error() {
     assert!(errors(DOMAIN).is_empty());
@@ -58,6 +64,13 @@ fn extra_paren_closing_define_early() {
     let errs = errors(&text);
     assert_eq!(errs.len(), 1, "{errs:?}");
     assert!(errs[0].contains("closes `(define`"), "{errs:?}");
+}
+
+#[test]
+fn extra_paren_closing_a_section_before_a_stray_list() {
+    let text = "(define (problem p)\n (:init (p a)) (q b))\n (:goal (p a)))";
+    let errs = errors(text);
+    assert_eq!(errs, vec!["33..34: unexpected `)`: it closes `(:init` before its end, which follows"]);
 }
 
 #[test]
@@ -118,6 +131,12 @@ proptest! {
     #[test]
     fn random_sexps_parse_losslessly(text in "[() ;:?a-z\n-]{0,300}") {
         prop_assert_eq!(parse(&text).text(), text);
+    }
+
+    #[test]
+    fn reparse_equals_parse_in_problems(start in 0usize..PROBLEM.len(), len in 0usize..8, insert in "[() :a-z?]{0,6}") {
+        let end = (start + len).min(PROBLEM.len());
+        reparse_matches(PROBLEM, start, end, &insert);
     }
 
     #[test]

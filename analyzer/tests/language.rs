@@ -1,0 +1,78 @@
+//! Small language cases: what is accepted, and what each misuse reports.
+
+use hipop_analyzer::AnalysisHost;
+
+/// The codes reported for `text`, with the text each one covers.
+fn codes(text: &str) -> Vec<(String, String)> {
+    let mut host = AnalysisHost::new();
+    let f = host.set_file_text("d.hddl", text);
+    host.analysis()
+        .diagnostics(f)
+        .unwrap()
+        .iter()
+        .map(|d| {
+            (
+                d.code.id.to_string(),
+                text[usize::from(d.range.start())..usize::from(d.range.end())].to_string(),
+            )
+        })
+        .collect()
+}
+
+const HEAD: &str = "(define (domain d)
+  (:requirements :typing :hierarchy :durative-actions :durative-methods :method-constraints)
+  (:types robot)
+  (:predicates (ready ?r - robot) (done ?r - robot))
+  (:task work :parameters (?r - robot))
+  (:durative-action step :parameters (?r - robot) :duration (= ?duration 1)
+    :condition (at start (ready ?r)) :effect (at end (done ?r)))
+";
+
+fn domain(rest: &str) -> String {
+    format!("{HEAD}{rest})\n")
+}
+
+#[test]
+fn hddl21_timed_and_ordering_constraints_are_understood() {
+    let text = domain(
+        "  (:durative-method m :parameters (?r - robot) :task (work ?r)
+    :subtasks (and (t1 (step ?r)) (t2 (step ?r)))
+    :constraints (and (< t1 t2) (<= (end t1) (start t2)) (at (start t1) (ready ?r))))",
+    );
+    assert_eq!(codes(&text), vec![]);
+}
+
+#[test]
+fn ordering_constraints_name_subtasks() {
+    let text = domain(
+        "  (:durative-method m :parameters (?r - robot) :task (work ?r)
+    :subtasks (and (t1 (step ?r)) (t2 (step ?r)))
+    :constraints (and (< t1 t9)))",
+    );
+    assert_eq!(codes(&text), vec![("E0108".to_string(), "t9".to_string())]);
+}
+
+#[test]
+fn a_field_given_twice_is_reported() {
+    let text =
+        domain("  (:action a :parameters (?r - robot) :precondition (ready ?r) :precondition (done ?r))");
+    assert_eq!(codes(&text), vec![("E0109".to_string(), ":precondition".to_string())]);
+}
+
+#[test]
+fn timed_conditions_need_a_duration() {
+    let text = domain(
+        "  (:action a :parameters (?r - robot) :precondition (at start (ready ?r)) :effect (done ?r))",
+    );
+    assert_eq!(codes(&text), vec![("E0003".to_string(), "(at start (ready ?r))".to_string())]);
+}
+
+#[test]
+fn ordering_cycles_are_found_through_timed_points() {
+    let text = domain(
+        "  (:durative-method m :parameters (?r - robot) :task (work ?r)
+    :subtasks (and (t1 (step ?r)) (t2 (step ?r)))
+    :ordering (and (< t1 t2) (< (end t2) (start t1))))",
+    );
+    assert_eq!(codes(&text), vec![("E0113".to_string(), "(< t1 t2)".to_string())]);
+}
