@@ -1,0 +1,254 @@
+//! Checks of names: what a term, atom or call refers to, arities and types.
+
+use std::borrow::Cow;
+
+use rowan::TextRange;
+
+use super::{Checker, Feature, describe, term_text};
+use crate::diagnostic::{Code, codes};
+use crate::model::*;
+use crate::semantics::symbols::{DeclKind, SigDecl, problem_symbols};
+
+/// Levenshtein distance, for "did you mean" suggestions.
+fn distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != *cb);
+            cur.push(sub.min(prev[j + 1] + 1).min(cur[j] + 1));
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+/// The closest of `candidates` to `name`, if close enough to be a typo.
+pub fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
+    let limit = (name.len() / 3).clamp(1, 3);
+    let mut scored: Vec<(usize, &str)> =
+        candidates.map(|c| (distance(name, c), c)).filter(|(d, c)| *d <= limit && *c != name).collect();
+    scored.sort_unstable();
+    scored.dedup();
+    match scored.as_slice() {
+        // Two equally close names: a guess would be a coin toss.
+        [(d1, _), (d2, _), ..] if d1 == d2 => None,
+        [(_, c), ..] => Some(c),
+        [] => None,
+    }
+}
+
+impl<'a, 'db> Checker<'a, 'db> {
+    pub(super) fn undefined(&mut self, code: &'static Code, what: &str, name: &Name, candidates: Vec<&str>) {
+        let suggestion = suggest(&name.key, candidates.into_iter()).map(str::to_string);
+        let d = self.diag(code, name.span, format!("undefined {what} `{}`", name.text));
+        if let Some(s) = suggestion {
+            d.message.push_str(&format!(" (did you mean `{s}`?)"));
+            d.fix = Some((format!("replace with `{s}`"), name.span, s));
+        }
+    }
+
+    pub(super) fn call_args(&mut self, call: &TaskCall, decl: &SigDecl<'db>, _what: &str) {
+        self.args(&call.name, &call.args, call.span, decl, false);
+    }
+
+    /// Checks arity and argument types against a declaration.
+    pub(super) fn args(
+        &mut self,
+        name: &Name,
+        args: &[Term],
+        span: TextRange,
+        decl: &SigDecl<'db>,
+        wildcards: bool,
+    ) {
+        let kind = match decl.kind {
+            DeclKind::Predicate | DeclKind::Derived => "predicate",
+            DeclKind::Function => "function",
+            DeclKind::Action(_) => "action",
+            DeclKind::Task => "task",
+        };
+        if args.len() != decl.params.len() {
+            for a in args {
+                self.term(a, wildcards);
+            }
+            let msg = format!(
+                "{kind} `{}` takes {} argument{}, but {} {} given",
+                name.text,
+                decl.params.len(),
+                if decl.params.len() == 1 { "" } else { "s" },
+                args.len(),
+                if args.len() == 1 { "is" } else { "are" }
+            );
+            self.diag(codes::ARITY, span, msg).related.push((decl.loc, "declared here".into()));
+            return;
+        }
+        for (arg, param) in args.iter().zip(&decl.params) {
+            let Some(ty) = self.term(arg, wildcards) else { continue };
+            // A variable of a supertype narrows to the parameter's type (HDDL's
+            // "sortof" semantics); an object must fit.
+            let ok = match arg {
+                Term::Var(_) => self.dom.compatible(&ty, param),
+                _ => self.dom.fits(&ty, param),
+            };
+            if !ok {
+                let msg = format!(
+                    "`{}` has type {}, but {kind} `{}` expects {} here",
+                    term_text(arg),
+                    describe(&ty),
+                    name.text,
+                    describe(param)
+                );
+                self.diag(codes::TYPE_MISMATCH, arg.span(), msg)
+                    .related
+                    .push((decl.loc, "declared here".into()));
+            }
+        }
+    }
+
+    /// The type of a term, reporting what is undefined.
+    pub(super) fn term(&mut self, t: &Term, wildcards: bool) -> Option<Cow<'a, [Str]>> {
+        let dom = self.dom;
+        match t {
+            Term::Var(v) => {
+                if let Some((_, ty)) = self.scope.iter().rev().find(|(n, _)| *n == v.key) {
+                    return Some(Cow::Owned(ty.clone()));
+                }
+                if v.key.as_str() == "?duration" && self.durative {
+                    return None;
+                }
+                if !wildcards {
+                    let cands: Vec<String> = self.scope.iter().map(|(n, _)| n.to_string()).collect();
+                    let suggestion = suggest(&v.key, cands.iter().map(String::as_str)).map(str::to_string);
+                    let d = self.diag(
+                        codes::UNDEFINED_VARIABLE,
+                        v.span,
+                        format!("variable `{}` is not bound by a parameter or quantifier", v.text),
+                    );
+                    if let Some(s) = suggestion {
+                        d.message.push_str(&format!(" (did you mean `{s}`?)"));
+                        d.fix = Some((format!("replace with `{s}`"), v.span, s));
+                    }
+                }
+                None
+            }
+            Term::Const(c) => {
+                if c.key.parse::<f64>().is_ok() {
+                    return None;
+                }
+                self.out.uses.constants.insert(c.key.clone());
+                if let Some(d) = dom.constants.get(&c.key) {
+                    return Some(Cow::Borrowed(&d.ty));
+                }
+                if let Some(d) = self.prob.and_then(|p| p.objects.get(&c.key)) {
+                    return Some(Cow::Borrowed(&d.ty));
+                }
+                if self.prob.is_none() && self.known_domain {
+                    // pandaPIparser accepts a domain constant that its problems declare as an object.
+                    let problems = crate::semantics::resolve::problems_of(self.db, self.unit);
+                    let declaring = problems.iter().find_map(|&p| {
+                        problem_symbols(self.db, p).objects.get(&c.key).map(|o| (p, o.clone()))
+                    });
+                    if let Some((p, obj)) = declaring {
+                        let pname = p.name(self.db).clone().unwrap_or_default();
+                        let msg = format!(
+                            "constant `{}` is not declared in the domain, only as an object of problem `{pname}`",
+                            c.text
+                        );
+                        self.diag(codes::CONSTANT_FROM_PROBLEM, c.span, msg)
+                            .related
+                            .push((obj.loc, "declared here".into()));
+                        return Some(Cow::Owned(obj.ty));
+                    }
+                    if problems.is_empty() {
+                        let msg = format!(
+                            "constant `{}` is not declared in the domain: its problems must declare it as an object",
+                            c.text
+                        );
+                        self.diag(codes::CONSTANT_FROM_PROBLEM, c.span, msg);
+                        return None;
+                    }
+                }
+                if self.known_domain {
+                    let mut cands: Vec<&str> = self.dom.constants.keys().map(|k| &**k).collect();
+                    if let Some(p) = self.prob {
+                        cands.extend(p.objects.keys().map(|k| &**k));
+                    }
+                    let what = if self.prob.is_some() { "object" } else { "constant" };
+                    self.undefined(codes::UNDEFINED_OBJECT, what, c, cands);
+                }
+                None
+            }
+            Term::Func(f) => self.fluent(f),
+        }
+    }
+
+    pub(super) fn fluent(&mut self, f: &Fluent) -> Option<Cow<'a, [Str]>> {
+        self.out.uses.functions.insert(f.func.key.clone());
+        let dom = self.dom;
+        match dom.functions.get(&f.func.key) {
+            Some(decl) => {
+                self.args(&f.func, &f.args, f.span, decl, false);
+                decl.result.as_deref().map(Cow::Borrowed)
+            }
+            None => {
+                for a in &f.args {
+                    self.term(a, false);
+                }
+                if self.known_domain {
+                    let cands = self.dom.functions.keys().map(|k| &**k).collect();
+                    self.undefined(codes::UNDEFINED_FUNCTION, "function", &f.func, cands);
+                }
+                None
+            }
+        }
+    }
+
+    pub(super) fn atom(&mut self, a: &Atom, wildcards: bool) {
+        if !self.out.uses.predicates.contains(&a.pred.key) {
+            self.out.uses.predicates.insert(a.pred.key.clone());
+        }
+        let dom = self.dom;
+        match dom.predicates.get(&a.pred.key) {
+            Some(decl) => self.args(&a.pred, &a.args, a.span, decl, wildcards),
+            None => {
+                for t in &a.args {
+                    self.term(t, wildcards);
+                }
+                if self.known_domain {
+                    let cands = self.dom.predicates.keys().map(|k| &**k).collect();
+                    self.undefined(codes::UNDEFINED_PREDICATE, "predicate", &a.pred, cands);
+                }
+            }
+        }
+    }
+
+    pub(super) fn num_expr(&mut self, e: &NumExpr) {
+        match e {
+            NumExpr::Number(_) => {}
+            NumExpr::Fluent(f) => {
+                self.feature(Feature::NumericFluents, f.span);
+                self.fluent(f);
+            }
+            NumExpr::Op(_, args, _) => {
+                for a in args {
+                    self.num_expr(a);
+                }
+            }
+            NumExpr::Duration(span) => {
+                if !self.durative {
+                    self.diag(
+                        codes::UNDEFINED_VARIABLE,
+                        *span,
+                        "`?duration` is only defined in durative actions and timed tasks".into(),
+                    );
+                }
+            }
+            NumExpr::TaskDuration(id, _) => self.subtask_id(id),
+            NumExpr::Special(..) => {}
+            NumExpr::Var(v) => {
+                self.term(&Term::Var(v.clone()), false);
+            }
+        }
+    }
+}
