@@ -14,7 +14,7 @@ use rowan::{NodeOrToken, TextRange, TextSize};
 
 use crate::diagnostic::{Diagnostic, Severity, codes};
 use crate::model::{self, Lowered};
-use crate::syntax::{self, GList, GSexp, Green, List, Parse, TextEdit};
+use crate::syntax::{self, GList, GSexp, Green, List, Parse, SyntaxKind, TextEdit};
 
 /// The database trait every query takes.
 #[salsa::db]
@@ -166,74 +166,41 @@ pub struct Unit<'db> {
 }
 
 /// The syntax of an item: a section list, or a chunk of `:init` elements.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ItemSyntax {
     List(Green),
-    /// Children `from..to` of an `:init` list (significant and trivia alike),
-    /// the first one significant. The list is shared with the other chunks:
-    /// making a chunk copies nothing.
+    /// The facts of a `Group` node of a long `:init` (the parser groups long
+    /// lists), or of a whole short `:init` list. `after_keyword`: the node
+    /// starts with `(:init`, which is not a fact. Compared pointer-first: an
+    /// edit elsewhere leaves the group the same allocation.
     Chunk {
-        init: Green,
-        from: u32,
-        to: u32,
+        node: Green,
+        after_keyword: bool,
     },
 }
 
 impl ItemSyntax {
-    /// The elements of a chunk with their offsets relative to the chunk's start.
+    /// The significant elements of a chunk with their offsets relative to its start.
     pub fn chunk_elements(
         &self,
     ) -> Vec<(TextSize, NodeOrToken<&rowan::GreenNodeData, &rowan::GreenTokenData>)> {
-        let ItemSyntax::Chunk { init, from, to } = self else { return Vec::new() };
+        let ItemSyntax::Chunk { node, after_keyword } = self else { return Vec::new() };
         let mut at = TextSize::from(0);
-        init.0
-            .children()
-            .skip(*from as usize)
-            .take((*to - *from) as usize)
-            .map(|c| {
-                let start = at;
-                at += c.text_len();
-                (start, c)
-            })
-            .collect()
+        let elements = node.0.children().filter_map(|c| {
+            let start = at;
+            at += c.text_len();
+            GSexp::of(c, start).map(|_| (start, c))
+        });
+        elements.skip(usize::from(*after_keyword)).collect()
     }
 
     /// The length of the item's text.
     pub fn text_len(&self) -> TextSize {
         match self {
-            ItemSyntax::List(g) => g.0.text_len(),
-            ItemSyntax::Chunk { .. } => self.chunk_elements().iter().map(|(_, c)| c.text_len()).sum(),
+            ItemSyntax::List(g) | ItemSyntax::Chunk { node: g, .. } => g.0.text_len(),
         }
     }
 }
-
-fn same_element(
-    a: NodeOrToken<&rowan::GreenNodeData, &rowan::GreenTokenData>,
-    b: NodeOrToken<&rowan::GreenNodeData, &rowan::GreenTokenData>,
-) -> bool {
-    match (a, b) {
-        (NodeOrToken::Node(a), NodeOrToken::Node(b)) => std::ptr::eq(a, b) || a == b,
-        (NodeOrToken::Token(a), NodeOrToken::Token(b)) => std::ptr::eq(a, b) || a == b,
-        _ => false,
-    }
-}
-
-impl PartialEq for ItemSyntax {
-    fn eq(&self, other: &Self) -> bool {
-        match (self, other) {
-            (ItemSyntax::List(a), ItemSyntax::List(b)) => a == b,
-            (
-                ItemSyntax::Chunk { init: a, from: fa, to: ta },
-                ItemSyntax::Chunk { init: b, from: fb, to: tb },
-            ) => {
-                let (xs, ys) = (a.0.children().skip(*fa as usize), b.0.children().skip(*fb as usize));
-                ta - fa == tb - fb && xs.zip(ys).take((ta - fa) as usize).all(|(x, y)| same_element(x, y))
-            }
-            _ => false,
-        }
-    }
-}
-impl Eq for ItemSyntax {}
 
 /// One section of a `define`, or a chunk of its `:init`.
 #[salsa::tracked(debug)]
@@ -258,9 +225,6 @@ pub struct Item<'db> {
     #[returns(copy)]
     pub offset: TextSize,
 }
-
-/// How many `:init` elements make a chunk.
-pub const INIT_CHUNK: usize = 256;
 
 fn header_of(list: &GList<'_>) -> (UnitKind, Option<String>) {
     for e in list.elements().skip(1) {
@@ -305,29 +269,23 @@ pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
             let offset = child.range().start();
             match section {
                 Section::Init => {
-                    // Chunks of INIT_CHUNK significant elements, after the `:init` keyword.
-                    let init = Green(child.green().to_owned());
-                    let mut starts: Vec<(u32, TextSize)> = Vec::new();
-                    let mut significant = 0usize;
-                    let mut end = 0u32;
-                    for (i, (start, c)) in child.children().enumerate() {
-                        if GSexp::of(c, start).is_none() {
-                            continue;
-                        }
-                        end = i as u32 + 1;
-                        significant += 1;
-                        // The first significant element is the `:init` keyword itself.
-                        if significant >= 2 && (significant - 2).is_multiple_of(INIT_CHUNK) {
-                            starts.push((i as u32, start));
-                        }
-                    }
-                    if starts.is_empty() {
-                        let syntax = ItemSyntax::Chunk { init: init.clone(), from: 0, to: 0 };
+                    // One chunk per group of the list (the parser groups long
+                    // lists), or the whole list when it is short.
+                    let groups: Vec<(TextSize, &rowan::GreenNodeData)> = child
+                        .direct_children()
+                        .filter_map(|(start, c)| match c {
+                            NodeOrToken::Node(n) if n.kind() == SyntaxKind::Group.into() => Some((start, n)),
+                            _ => None,
+                        })
+                        .collect();
+                    if groups.is_empty() {
+                        let syntax =
+                            ItemSyntax::Chunk { node: Green(child.green().to_owned()), after_keyword: true };
                         items.push(Item::new(db, file, index, kind, section, None, syntax, offset));
                     }
-                    for (k, &(from, start)) in starts.iter().enumerate() {
-                        let to = starts.get(k + 1).map_or(end, |n| n.0);
-                        let syntax = ItemSyntax::Chunk { init: init.clone(), from, to };
+                    for (k, (start, group)) in groups.into_iter().enumerate() {
+                        let syntax =
+                            ItemSyntax::Chunk { node: Green(group.to_owned()), after_keyword: k == 0 };
                         items.push(Item::new(db, file, index, kind, section, None, syntax, start));
                     }
                 }

@@ -147,7 +147,8 @@ impl Analysis {
     /// diagnostics. Each thread has its own database handle (salsa's rule);
     /// results land in the shared memo tables.
     fn warm_up(&self, file: SourceFile) -> Cancellable<()> {
-        const PARALLEL_FROM: usize = 256;
+        // Below this much text, starting threads costs more than it saves.
+        const PARALLEL_FROM_BYTES: usize = 64 * 1024;
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(8);
         let items = self.with_db(|db| {
             let units = crate::db::file_units(db, file);
@@ -159,7 +160,8 @@ impl Analysis {
             }
             units.iter().map(|u| u.items(db).len()).sum::<usize>()
         })?;
-        if threads < 2 || items < PARALLEL_FROM {
+        let bytes = self.with_db(|db| file.text(db).len())?;
+        if threads < 2 || items < 2 || bytes < PARALLEL_FROM_BYTES {
             return Ok(());
         }
         std::thread::scope(|scope| {

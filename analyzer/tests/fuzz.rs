@@ -25,7 +25,17 @@ fn seeds() -> Vec<String> {
     ] {
         paths.push(corpora.join(rel));
     }
-    paths.iter().filter_map(|p| std::fs::read_to_string(p).ok()).collect()
+    let mut texts: Vec<String> = paths.iter().filter_map(|p| std::fs::read_to_string(p).ok()).collect();
+    // A problem whose `:init` is long enough for the parser to group it.
+    let mut big = String::from(
+        "(define (problem big) (:domain rover-mission)\n  (:objects r1 - rover w1 w2 - waypoint)\n  (:init\n",
+    );
+    for i in 0..400 {
+        big.push_str(&format!("    (at r1 w{}) (= (distance w1 w2) {i}.5)\n", 1 + i % 2));
+    }
+    big.push_str("  )\n  (:goal (at r1 w2)))\n");
+    texts.push(big);
+    texts
 }
 
 const PIECES: &[&str] = &[

@@ -108,6 +108,12 @@ impl<'db> DomainSymbols<'db> {
 
     /// Whether every alternative of `arg` fits some alternative of `param`.
     pub fn fits(&self, arg: &[Str], param: &[Str]) -> bool {
+        // The common case, a plain type given where it is expected, needs no lookup.
+        if let [a] = arg
+            && param.contains(a)
+        {
+            return true;
+        }
         arg.iter()
             .all(|a| !self.is_type(a) || param.iter().any(|p| !self.is_type(p) || self.is_subtype(a, p)))
     }

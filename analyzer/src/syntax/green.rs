@@ -34,6 +34,40 @@ pub struct GList<'a> {
     start: TextSize,
 }
 
+/// The children of a list, the children of its groups flattened, with their starts.
+pub struct FlatChildren<'a> {
+    outer: rowan::Children<'a>,
+    inner: Option<rowan::Children<'a>>,
+    at: TextSize,
+}
+
+impl<'a> Iterator for FlatChildren<'a> {
+    type Item = (TextSize, NodeOrToken<&'a GreenNodeData, &'a GreenTokenData>);
+
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            if let Some(inner) = &mut self.inner {
+                if let Some(c) = inner.next() {
+                    let start = self.at;
+                    self.at += c.text_len();
+                    return Some((start, c));
+                }
+                self.inner = None;
+            }
+            match self.outer.next()? {
+                NodeOrToken::Node(n) if kind_of(n.kind()) == SyntaxKind::Group => {
+                    self.inner = Some(n.children())
+                }
+                c => {
+                    let start = self.at;
+                    self.at += c.text_len();
+                    return Some((start, c));
+                }
+            }
+        }
+    }
+}
+
 /// An element of a list.
 #[derive(Debug, Clone, Copy)]
 pub enum GSexp<'a> {
@@ -109,8 +143,14 @@ impl<'a> GList<'a> {
         self.node
     }
 
-    /// Every child with its absolute start, trivia and parentheses included.
-    pub fn children(
+    /// Every child with its absolute start, trivia and parentheses included;
+    /// the children of `Group` nodes stand in for the groups.
+    pub fn children(&self) -> FlatChildren<'a> {
+        FlatChildren { outer: self.node.children(), inner: None, at: self.start }
+    }
+
+    /// The direct children, groups included, with their absolute starts.
+    pub fn direct_children(
         &self,
     ) -> impl Iterator<Item = (TextSize, NodeOrToken<&'a GreenNodeData, &'a GreenTokenData>)> + 'a {
         let mut at = self.start;

@@ -27,6 +27,9 @@ pub enum SyntaxKind {
     List,
     /// A `)` that closes nothing (kept so that printing the tree gives the input back).
     Error,
+    /// A run of consecutive children of a long list (see `GROUP_SIZE`): transparent
+    /// for every view of the tree, it bounds what an edit copies.
+    Group,
     Root,
 }
 

@@ -4,6 +4,7 @@
 //! model or LSP. A [`Parse`] is a value: printing its tree gives back the text,
 //! byte for byte, whatever the text is.
 
+mod builder;
 mod green;
 mod kind;
 mod lexer;

@@ -13,7 +13,9 @@
 //! - a `)` that would close an item right before one of its field keywords, or
 //!   a `define` right before a new section, is an extra `)`.
 
-use rowan::{GreenNode, GreenNodeBuilder, TextRange, TextSize};
+use rowan::{GreenNode, TextRange, TextSize};
+
+use super::builder::TreeBuilder;
 
 use super::kind::SyntaxKind;
 use super::lexer::{Token, lex};
@@ -135,7 +137,7 @@ pub(crate) struct Parser<'t> {
     tokens: Vec<Token>,
     offsets: Vec<TextSize>,
     pos: usize,
-    builder: GreenNodeBuilder<'static>,
+    builder: TreeBuilder<'t>,
     stack: Vec<Frame>,
     errors: Vec<SyntaxError>,
     /// Set when a re-parse would have to touch an ancestor: the caller falls back to a full parse.
@@ -157,7 +159,7 @@ impl<'t> Parser<'t> {
             tokens,
             offsets,
             pos: 0,
-            builder: GreenNodeBuilder::new(),
+            builder: TreeBuilder::new(),
             stack: Vec::new(),
             errors: Vec::new(),
             escaped: false,
@@ -179,7 +181,7 @@ impl<'t> Parser<'t> {
     fn bump(&mut self) {
         let kind = self.tokens[self.pos].kind;
         let text = self.token_text(self.pos);
-        self.builder.token(kind.into(), text);
+        self.builder.token(kind, text);
         self.pos += 1;
     }
 
@@ -263,7 +265,7 @@ impl<'t> Parser<'t> {
                         }
                     }
                     let open = self.range(self.pos);
-                    self.builder.start_node(SyntaxKind::List.into());
+                    self.builder.start_node(SyntaxKind::List);
                     self.bump();
                     self.stack.push(Frame {
                         category: Category::Unknown,
@@ -368,7 +370,7 @@ impl<'t> Parser<'t> {
 
     fn extra_paren(&mut self, message: String) {
         let range = self.range(self.pos);
-        self.builder.start_node(SyntaxKind::Error.into());
+        self.builder.start_node(SyntaxKind::Error);
         self.bump();
         self.builder.finish_node();
         self.errors.push(SyntaxError { kind: SyntaxErrorKind::ExtraParen, range, message, related: None });
@@ -376,7 +378,7 @@ impl<'t> Parser<'t> {
 
     /// Parses a whole file.
     pub(crate) fn parse_file(mut self) -> (GreenNode, Vec<SyntaxError>) {
-        self.builder.start_node(SyntaxKind::Root.into());
+        self.builder.start_node(SyntaxKind::Root);
         self.parse_tokens(None);
         self.close_missing(0);
         self.builder.finish_node();

@@ -1,6 +1,6 @@
 //! A typed view of the s-expression tree: lists and atoms, trivia skipped.
 
-use super::kind::{SyntaxKind, SyntaxNode, SyntaxToken};
+use super::kind::{SyntaxElement, SyntaxKind, SyntaxNode, SyntaxToken};
 use rowan::{NodeOrToken, TextRange};
 
 /// An element of a list: an atom or a nested list.
@@ -43,6 +43,38 @@ impl Sexp {
     }
 }
 
+/// The children of a node, the children of its `Group` nodes standing in for them.
+pub fn flatten_groups(node: &SyntaxNode) -> FlatRed {
+    FlatRed { outer: node.children_with_tokens(), inner: None }
+}
+
+/// See [`flatten_groups`].
+pub struct FlatRed {
+    outer: rowan::SyntaxElementChildren<super::kind::Lang>,
+    inner: Option<rowan::SyntaxElementChildren<super::kind::Lang>>,
+}
+
+impl Iterator for FlatRed {
+    type Item = SyntaxElement;
+
+    fn next(&mut self) -> Option<SyntaxElement> {
+        loop {
+            if let Some(inner) = &mut self.inner {
+                if let Some(e) = inner.next() {
+                    return Some(e);
+                }
+                self.inner = None;
+            }
+            match self.outer.next()? {
+                NodeOrToken::Node(g) if g.kind() == SyntaxKind::Group => {
+                    self.inner = Some(g.children_with_tokens())
+                }
+                other => return Some(other),
+            }
+        }
+    }
+}
+
 /// A parenthesised list.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct List(pub SyntaxNode);
@@ -58,7 +90,7 @@ impl List {
 
     /// The significant elements: atoms and lists, without trivia, parentheses and stray `)`.
     pub fn elements(&self) -> impl Iterator<Item = Sexp> + '_ {
-        self.0.children_with_tokens().filter_map(|e| match e {
+        flatten_groups(&self.0).filter_map(|e| match e {
             NodeOrToken::Node(n) => List::cast(n).map(Sexp::List),
             NodeOrToken::Token(t) if t.kind().is_atom() => Some(Sexp::Atom(t)),
             NodeOrToken::Token(_) => None,
@@ -83,8 +115,16 @@ impl List {
 
     /// Whether the list ends with its own `)`.
     pub fn is_closed(&self) -> bool {
-        self.0.last_token().is_some_and(|t| t.kind() == SyntaxKind::RParen)
-            && self.0.children_with_tokens().count() > 1
+        // O(1): the last direct child is a `)` token (the first is always the `(`).
+        let green = self.0.green();
+        let last = match green.children().next_back() {
+            Some(NodeOrToken::Node(g)) if g.kind() == SyntaxKind::Group.into() => g.children().next_back(),
+            other => other,
+        };
+        last.is_some_and(|c| {
+            c.as_token().is_some_and(|t| t.kind() == SyntaxKind::RParen.into())
+                && self.range().len() >= 2.into()
+        })
     }
 
     /// The range of the `(`.

@@ -22,6 +22,30 @@ const PROBLEM: &str = "(define (problem p) (:domain d)
   (foo) (:goal (and (p b))))
 ";
 
+/// A problem whose `:init` is long enough to be grouped.
+fn big_problem() -> String {
+    let mut s = String::from("(define (problem big) (:domain d)\n  (:init\n");
+    for i in 0..700 {
+        s.push_str(&format!("    (p o{i}) ; fact {i}\n"));
+    }
+    s.push_str("  )\n  (:goal (p o1)))\n");
+    s
+}
+
+#[test]
+fn long_lists_are_grouped_and_print_back() {
+    let text = big_problem();
+    let p = parse(&text);
+    assert_eq!(p.text(), text);
+    assert!(p.errors.is_empty());
+    let define = p.syntax().children().next().unwrap();
+    let init = define.children().find(|n| List::cast(n.clone()).is_some_and(|l| l.head_is(":init"))).unwrap();
+    let groups = init.children().filter(|n| n.kind() == SyntaxKind::Group).count();
+    assert!(groups >= 2, "{groups} groups");
+    // The views see through groups.
+    assert_eq!(List::cast(init).unwrap().elements().count(), 701);
+}
+
 #[test]
 fn well_formed_file_has_no_error() {
     assert!(errors(DOMAIN).is_empty());
@@ -143,5 +167,20 @@ proptest! {
     fn reparse_equals_parse(start in 0usize..DOMAIN.len(), len in 0usize..8, insert in "[() :a-z?]{0,6}") {
         let end = (start + len).min(DOMAIN.len());
         reparse_matches(DOMAIN, start, end, &insert);
+    }
+}
+
+proptest! {
+    // Each case parses a 20 kB file twice: fewer cases.
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn reparse_equals_parse_in_grouped_lists(at in 0usize..40_000, len in 0usize..6, insert in "[() :a-z?\n]{0,5}") {
+        let text = big_problem();
+        let start = at % text.len();
+        let end = (start + len).min(text.len());
+        if text.is_char_boundary(start) && text.is_char_boundary(end) {
+            reparse_matches(&text, start, end, &insert);
+        }
     }
 }

@@ -3,7 +3,7 @@
 use rowan::TextRange;
 
 use super::network::is_ordering_shape;
-use super::{Cx, GSexp, SyntaxKind, atom_kind};
+use super::{Cx, Elems, GSexp, SyntaxKind, atom_kind};
 use crate::model::*;
 
 impl Cx {
@@ -29,12 +29,17 @@ impl Cx {
             self.malformed(e, "expected an atom like `(p ?x)`");
             return None;
         };
-        let inner: Vec<GSexp<'_>> = l.elements().collect();
+        let inner: Elems<'_> = l.elements().collect();
+        self.atom_of(e, &inner)
+    }
+
+    /// An atom from the elements of its list `e`, already collected.
+    pub(super) fn atom_of(&mut self, e: &GSexp<'_>, inner: &[GSexp<'_>]) -> Option<Atom> {
         match inner.first() {
             Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(Atom {
                 pred: self.name(t),
                 args: inner[1..].iter().filter_map(|a| self.term(a)).collect(),
-                span: self.span(l.range()),
+                span: self.span(e.range()),
             }),
             _ => {
                 self.malformed(e, "expected an atom like `(p ?x)`");
@@ -46,7 +51,7 @@ impl Cx {
     pub(super) fn fluent(&mut self, e: &GSexp<'_>) -> Option<Fluent> {
         match e {
             GSexp::List(l) => {
-                let inner: Vec<GSexp<'_>> = l.elements().collect();
+                let inner: Elems<'_> = l.elements().collect();
                 match inner.first() {
                     Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(Fluent {
                         func: self.name(t),
@@ -89,7 +94,7 @@ impl Cx {
                 }),
             },
             GSexp::List(l) => {
-                let inner: Vec<GSexp<'_>> = l.elements().collect();
+                let inner: Elems<'_> = l.elements().collect();
                 let span = self.span(l.range());
                 match inner.first().and_then(|h| h.atom_text()) {
                     Some(op @ ("+" | "-" | "*" | "/")) if inner.len() >= 2 => {
@@ -138,7 +143,7 @@ impl Cx {
             return Gd::And(Vec::new(), self.span(e.range()));
         };
         let span = self.span(l.range());
-        let inner: Vec<GSexp<'_>> = l.elements().collect();
+        let inner: Elems<'_> = l.elements().collect();
         if let Some(ts) = Self::timed_head(&inner) {
             return Gd::Timed(ts, Box::new(self.gd(&inner[2])), span);
         }
@@ -267,7 +272,7 @@ impl Cx {
             return Effect::And(Vec::new(), self.span(e.range()));
         };
         let span = self.span(l.range());
-        let inner: Vec<GSexp<'_>> = l.elements().collect();
+        let inner: Elems<'_> = l.elements().collect();
         if let Some(ts) = Self::timed_head(&inner) {
             return Effect::Timed(ts, Box::new(self.effect(&inner[2])), span);
         }

@@ -54,6 +54,9 @@ struct Cx {
     diags: Vec<LocalDiag>,
 }
 
+/// The elements of a list, on the stack for the short lists that facts and atoms are.
+type Elems<'t> = smallvec::SmallVec<[GSexp<'t>; 6]>;
+
 fn atom_kind(s: &GSexp<'_>) -> Option<SyntaxKind> {
     s.as_atom().map(|t| t.kind())
 }
@@ -95,7 +98,7 @@ impl Cx {
     }
 
     fn section(&mut self, list: &GList<'_>) -> ItemData {
-        let elems: Vec<GSexp<'_>> = list.elements().collect();
+        let elems: Elems<'_> = list.elements().collect();
         let Some(head) = elems.first() else {
             self.error(codes::MALFORMED, self.span(list.range()), "empty section `()`");
             return ItemData::Unknown;
@@ -263,7 +266,7 @@ impl Cx {
     fn params(&mut self, e: &GSexp<'_>) -> Vec<Typed> {
         match e {
             GSexp::List(l) => {
-                let elems: Vec<GSexp<'_>> = l.elements().collect();
+                let elems: Elems<'_> = l.elements().collect();
                 self.typed_list(&elems, true)
             }
             other => {
@@ -296,7 +299,7 @@ impl Cx {
             }
             match e {
                 GSexp::List(l) => {
-                    let inner: Vec<GSexp<'_>> = l.elements().collect();
+                    let inner: Elems<'_> = l.elements().collect();
                     match inner.first() {
                         Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => {
                             let name = self.name(t);
@@ -552,7 +555,7 @@ impl Cx {
     fn derived(&mut self, head: &GSexp<'_>, rest: &[GSexp<'_>]) -> ItemData {
         match rest {
             [GSexp::List(p), body] => {
-                let inner: Vec<GSexp<'_>> = p.elements().collect();
+                let inner: Elems<'_> = p.elements().collect();
                 let Some(GSexp::Atom(t)) = inner.first() else {
                     self.malformed(&rest[0], "expected `(predicate ?x - t …)`");
                     return ItemData::Unknown;
@@ -582,7 +585,7 @@ impl Cx {
             return None;
         };
         let span = self.span(l.range());
-        let inner: Vec<GSexp<'_>> = l.elements().collect();
+        let inner: Elems<'_> = l.elements().collect();
         match inner.as_slice() {
             [at, GSexp::Atom(n), lit @ GSexp::List(_)]
                 if at.is_atom("at") && n.kind() == SyntaxKind::Number =>
@@ -604,7 +607,7 @@ impl Cx {
                     }
                 }
             }
-            _ => self.atom(e).map(InitElement::Fact),
+            _ => self.atom_of(e, &inner).map(InitElement::Fact),
         }
     }
 }

@@ -1,7 +1,7 @@
 //! Lowering task networks: subtasks, orderings (prefix, infix and timed),
 //! causal links, and calls of tasks.
 
-use super::{Cx, GSexp, SyntaxKind};
+use super::{Cx, Elems, GSexp, SyntaxKind};
 use crate::model::*;
 
 /// A subtask id, `(start id)` or `(end id)`.
@@ -60,7 +60,7 @@ impl Cx {
     pub(super) fn task_call(&mut self, e: &GSexp<'_>) -> Option<TaskCall> {
         match e {
             GSexp::List(l) => {
-                let inner: Vec<GSexp<'_>> = l.elements().collect();
+                let inner: Elems<'_> = l.elements().collect();
                 match inner.first() {
                     Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(TaskCall {
                         name: self.name(t),
@@ -90,7 +90,7 @@ impl Cx {
             self.malformed(e, "expected a subtask like `(t1 (name ?x …))`");
             return None;
         };
-        let inner: Vec<GSexp<'_>> = l.elements().collect();
+        let inner: Elems<'_> = l.elements().collect();
         match inner.as_slice() {
             [GSexp::Atom(id), call @ GSexp::List(_)] if id.kind() == SyntaxKind::Symbol => {
                 let id = self.name(id);
@@ -104,7 +104,7 @@ impl Cx {
         let items = conjuncts(e);
         let mut out = Vec::new();
         for x in &items {
-            let inner: Vec<GSexp<'_>> = x.as_list().map(|l| l.elements().collect()).unwrap_or_default();
+            let inner: Elems<'_> = x.as_list().map(|l| l.elements().collect()).unwrap_or_default();
             match inner.as_slice() {
                 [GSexp::Atom(from), lit, GSexp::Atom(to)] => {
                     let (from, to) = (self.name(from), self.name(to));
@@ -135,7 +135,7 @@ impl Cx {
                 Some(OrderPoint { id: self.name(t), endpoint: Endpoint::Whole })
             }
             GSexp::List(l) => {
-                let inner: Vec<GSexp<'_>> = l.elements().collect();
+                let inner: Elems<'_> = l.elements().collect();
                 match inner.as_slice() {
                     [which, GSexp::Atom(id)] if which.is_atom("start") || which.is_atom("end") => {
                         Some(OrderPoint {
@@ -161,7 +161,7 @@ impl Cx {
             self.malformed(e, "expected an ordering like `(< t1 t2)`");
             return None;
         };
-        let inner: Vec<GSexp<'_>> = l.elements().collect();
+        let inner: Elems<'_> = l.elements().collect();
         if let [not, inner_e] = inner.as_slice()
             && not.is_atom("not")
         {

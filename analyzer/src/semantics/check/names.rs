@@ -133,11 +133,16 @@ impl<'a, 'db> Checker<'a, 'db> {
                 None
             }
             Term::Const(c) => {
-                if c.key.parse::<f64>().is_ok() {
+                let numeric =
+                    c.key.as_bytes().first().is_some_and(|b| b.is_ascii_digit() || b"-+.".contains(b));
+                if numeric && c.key.parse::<f64>().is_ok() {
                     return None;
                 }
-                self.out.uses.constants.insert(c.key.clone());
                 if let Some(d) = dom.constants.get(&c.key) {
+                    // Only domain constants can be unused declarations.
+                    if !self.out.uses.constants.contains(&c.key) {
+                        self.out.uses.constants.insert(c.key.clone());
+                    }
                     return Some(Cow::Borrowed(&d.ty));
                 }
                 if let Some(d) = self.prob.and_then(|p| p.objects.get(&c.key)) {
@@ -184,7 +189,9 @@ impl<'a, 'db> Checker<'a, 'db> {
     }
 
     pub(super) fn fluent(&mut self, f: &Fluent) -> Option<Cow<'a, [Str]>> {
-        self.out.uses.functions.insert(f.func.key.clone());
+        if !self.out.uses.functions.contains(&f.func.key) {
+            self.out.uses.functions.insert(f.func.key.clone());
+        }
         let dom = self.dom;
         match dom.functions.get(&f.func.key) {
             Some(decl) => {
