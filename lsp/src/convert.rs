@@ -80,7 +80,7 @@ pub(crate) fn key_uri(key: &str, open: &HashMap<String, lsp::Uri>) -> Option<lsp
 pub(crate) struct FileInfo {
     pub uri: Option<lsp::Uri>,
     pub text: Arc<str>,
-    pub index: LineIndex,
+    pub index: Arc<LineIndex>,
     pub enc: Encoding,
 }
 
@@ -107,6 +107,9 @@ pub(crate) struct Files<'a> {
     open: &'a HashMap<String, lsp::Uri>,
     enc: Encoding,
     cache: HashMap<SourceFile, Rc<FileInfo>>,
+    /// The line indexes the open documents keep up to date (indexing a 5 MB
+    /// file again for every publication would dominate the latency).
+    indexes: &'a HashMap<SourceFile, Arc<LineIndex>>,
 }
 
 impl<'a> Files<'a> {
@@ -114,8 +117,9 @@ impl<'a> Files<'a> {
         analysis: &'a Analysis,
         open: &'a HashMap<String, lsp::Uri>,
         enc: Encoding,
+        indexes: &'a HashMap<SourceFile, Arc<LineIndex>>,
     ) -> Files<'a> {
-        Files { analysis, open, enc, cache: HashMap::new() }
+        Files { analysis, open, enc, cache: HashMap::new(), indexes }
     }
 
     pub(crate) fn get(&mut self, file: SourceFile) -> Cancellable<Rc<FileInfo>> {
@@ -124,7 +128,8 @@ impl<'a> Files<'a> {
         }
         let text = self.analysis.file_text(file)?;
         let uri = key_uri(&self.analysis.file_path(file)?, self.open);
-        let info = Rc::new(FileInfo { uri, index: LineIndex::new(&text), text, enc: self.enc });
+        let index = self.indexes.get(&file).cloned().unwrap_or_else(|| Arc::new(LineIndex::new(&text)));
+        let info = Rc::new(FileInfo { uri, index, text, enc: self.enc });
         self.cache.insert(file, info.clone());
         Ok(info)
     }
@@ -300,7 +305,8 @@ mod tests {
         let diags = analysis.diagnostics(file).unwrap();
         let arity = diags.iter().find(|d| d.code.id == "E0110").expect("an arity error");
         let open = HashMap::new();
-        let mut files = Files::new(&analysis, &open, Encoding::Utf16);
+        let no_indexes = HashMap::new();
+        let mut files = Files::new(&analysis, &open, Encoding::Utf16, &no_indexes);
         let converted = diagnostic(arity, &mut files).unwrap();
         assert_eq!(converted.code, Some(lsp::NumberOrString::String("E0110".into())));
         assert_eq!(converted.severity, Some(lsp::DiagnosticSeverity::ERROR));
@@ -321,7 +327,8 @@ mod tests {
         let undefined = diags.iter().find(|d| d.code.id == "E0102").expect("undefined predicate");
         let open = HashMap::new();
         let columns = |enc| {
-            let r = diagnostic(undefined, &mut Files::new(&analysis, &open, enc)).unwrap().range;
+            let r =
+                diagnostic(undefined, &mut Files::new(&analysis, &open, enc, &HashMap::new())).unwrap().range;
             (r.start.line, r.start.character, r.end.character)
         };
         // `é` is one UTF-16 unit and code point, two UTF-8 bytes.

@@ -22,6 +22,18 @@ use crate::session::{DiagnosticsJob, Session};
 /// The pause after the last keystroke before diagnostics are computed.
 pub(crate) const DEBOUNCE: Duration = Duration::from_millis(150);
 
+/// [`DEBOUNCE`], unless `HIPOP_LSP_DEBOUNCE_MS` says otherwise (the latency
+/// benchmark sets it to 0 to measure the work itself).
+fn debounce() -> Duration {
+    static VALUE: std::sync::OnceLock<Duration> = std::sync::OnceLock::new();
+    *VALUE.get_or_init(|| {
+        std::env::var("HIPOP_LSP_DEBOUNCE_MS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .map_or(DEBOUNCE, Duration::from_millis)
+    })
+}
+
 /// When to publish.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum When {
@@ -40,7 +52,7 @@ pub(crate) fn schedule(client: &Client, session: &Arc<Mutex<Session>>, generatio
 
 async fn publish(client: Client, session: Arc<Mutex<Session>>, generation: u64, when: When) {
     if when == When::Debounced {
-        tokio::time::sleep(DEBOUNCE).await;
+        tokio::time::sleep(debounce()).await;
     }
     let job = {
         let session = session.lock().await;
@@ -82,7 +94,7 @@ type Batch = Vec<(Uri, i32, Vec<lsp::Diagnostic>)>;
 /// document whose analysis panics is left out rather than failing the batch.
 fn compute(job: DiagnosticsJob) -> Option<Batch> {
     let mut batch = Vec::new();
-    let mut files = Files::new(&job.analysis, &job.open, job.encoding);
+    let mut files = Files::new(&job.analysis, &job.open, job.encoding, &job.indexes);
     for (uri, version, file) in &job.docs {
         let one = guarded(|| {
             let diags = job.analysis.diagnostics(*file)?;

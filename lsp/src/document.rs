@@ -8,6 +8,8 @@ use hipop_analyzer::{TextEdit, TextRange};
 use tower_lsp_server::ls_types::TextDocumentContentChangeEvent;
 
 use crate::convert;
+use std::sync::Arc;
+
 use crate::line_index::{Encoding, LineIndex};
 
 pub(crate) struct Document {
@@ -15,7 +17,9 @@ pub(crate) struct Document {
     pub key: String,
     pub version: i32,
     text: String,
-    index: LineIndex,
+    /// Shared with the snapshots that convert this document's positions;
+    /// copied on write only while one of them still holds it.
+    index: Arc<LineIndex>,
 }
 
 /// What a batch of content changes did, for the analyzer.
@@ -29,8 +33,13 @@ pub(crate) enum Applied {
 
 impl Document {
     pub(crate) fn new(key: String, version: i32, text: String) -> Document {
-        let index = LineIndex::new(&text);
+        let index = Arc::new(LineIndex::new(&text));
         Document { key, version, text, index }
+    }
+
+    /// The line index of the current text.
+    pub(crate) fn index(&self) -> Arc<LineIndex> {
+        self.index.clone()
     }
 
     pub(crate) fn text(&self) -> &str {
@@ -51,6 +60,7 @@ impl Document {
             match change.range {
                 None => {
                     self.text = change.text;
+                    self.index = Arc::new(LineIndex::new(&self.text));
                     edits.clear();
                     replaced = true;
                 }
@@ -59,13 +69,13 @@ impl Document {
                     let b = convert::offset(&self.index, &self.text, range.end, enc);
                     let (start, end) = (a.min(b), a.max(b));
                     self.text.replace_range(start as usize..end as usize, &change.text);
+                    Arc::make_mut(&mut self.index).edit(&self.text, start, end, change.text.len() as u32);
                     edits.push(TextEdit {
                         range: TextRange::new(start.into(), end.into()),
                         insert: change.text,
                     });
                 }
             }
-            self.index = LineIndex::new(&self.text);
         }
         if replaced { Applied::Replaced } else { Applied::Edits(edits) }
     }

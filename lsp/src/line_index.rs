@@ -43,20 +43,46 @@ pub(crate) struct LineIndex {
     len: u32,
 }
 
+/// Pushes the line starts `s` with `lo <= s <= hi` of `text`, in order (a line
+/// starts after `\n`, and after a `\r` not followed by `\n`).
+fn scan(text: &[u8], lo: usize, hi: usize, starts: &mut Vec<u32>) {
+    let hi = hi.min(text.len());
+    for s in lo.max(1)..=hi {
+        let begins = match text[s - 1] {
+            b'\n' => true,
+            b'\r' => text.get(s) != Some(&b'\n'),
+            _ => false,
+        };
+        if begins {
+            starts.push(s as u32);
+        }
+    }
+}
+
 impl LineIndex {
     pub(crate) fn new(text: &str) -> LineIndex {
-        let bytes = text.as_bytes();
         let mut starts = vec![0];
-        let mut i = 0;
-        while i < bytes.len() {
-            match bytes[i] {
-                b'\n' => starts.push(i as u32 + 1),
-                b'\r' if bytes.get(i + 1) != Some(&b'\n') => starts.push(i as u32 + 1),
-                _ => {}
-            }
-            i += 1;
-        }
+        scan(text.as_bytes(), 1, text.len(), &mut starts);
         LineIndex { starts, len: text.len() as u32 }
+    }
+
+    /// Updates the index after `start..old_end` was replaced by `inserted`
+    /// bytes, `text` being the new text: the line starts before the edit are
+    /// kept, those after it shifted, and only the edited lines scanned. On a
+    /// 5 MB file this is what keeps typing fast.
+    pub(crate) fn edit(&mut self, text: &str, start: u32, old_end: u32, inserted: u32) {
+        let new_end = start + inserted;
+        let delta = i64::from(new_end) - i64::from(old_end);
+        // A line start `s` depends on the bytes at `s - 1` and `s`: the starts in
+        // `start..=old_end + 1` may change; the ones after move by `delta`.
+        let keep = self.starts.partition_point(|&s| s < start.max(1));
+        let after = self.starts.partition_point(|&s| s <= old_end + 1);
+        let tail: Vec<u32> = self.starts[after..].iter().map(|&s| (i64::from(s) + delta) as u32).collect();
+        self.starts.truncate(keep);
+        let scan_to = (i64::from(old_end) + 1 + delta) as usize;
+        scan(text.as_bytes(), start.max(1) as usize, scan_to, &mut self.starts);
+        self.starts.extend(tail);
+        self.len = text.len() as u32;
     }
 
     pub(crate) fn line_count(&self) -> usize {
@@ -119,6 +145,27 @@ mod tests {
 
     fn lc(line: u32, col: u32) -> LineCol {
         LineCol { line, col }
+    }
+
+    #[test]
+    fn edits_update_the_index_like_a_rebuild() {
+        // Every edit of every small text over this alphabet, including ones
+        // that make or break `\r\n` pairs at their borders.
+        let texts = ["", "a\nb", "a\r\nb\rc\n", "\r\r\n\n", "ab\r", "\nx\ry"];
+        let inserts = ["", "\n", "\r", "\r\n", "x", "\nq\r"];
+        for text in texts {
+            for start in 0..=text.len() {
+                for end in start..=text.len() {
+                    for ins in inserts {
+                        let mut new = text.to_string();
+                        new.replace_range(start..end, ins);
+                        let mut idx = LineIndex::new(text);
+                        idx.edit(&new, start as u32, end as u32, ins.len() as u32);
+                        assert_eq!(idx, LineIndex::new(&new), "{text:?} [{start}..{end}] <- {ins:?}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]

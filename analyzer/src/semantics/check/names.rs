@@ -9,26 +9,47 @@ use crate::diagnostic::{Code, codes};
 use crate::model::*;
 use crate::semantics::symbols::{DeclKind, SigDecl, problem_symbols};
 
-/// Levenshtein distance, for "did you mean" suggestions.
-fn distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut cur = vec![i + 1];
-        for (j, cb) in b.iter().enumerate() {
-            let sub = prev[j] + usize::from(ca != *cb);
-            cur.push(sub.min(prev[j + 1] + 1).min(cur[j] + 1));
-        }
-        prev = cur;
+/// The Levenshtein distance between `a` and `b` if it is at most `limit`.
+///
+/// Computed on bytes (names are ASCII in practice; a multi-byte character
+/// counts as several edits, which only makes suggestions more cautious),
+/// with an early exit as soon as every cell of a row exceeds `limit`: a big
+/// problem has thousands of objects to compare a typo with.
+fn distance_within(a: &str, b: &str, limit: usize) -> Option<usize> {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len().abs_diff(b.len()) > limit {
+        return None;
     }
-    prev[b.len()]
+    // Two rows, on the stack for the short names that most are.
+    let mut rows = smallvec::SmallVec::<[usize; 96]>::from_elem(0, 2 * (b.len() + 1));
+    let (prev, cur) = rows.split_at_mut(b.len() + 1);
+    let (mut prev, mut cur) = (prev, cur);
+    for (j, p) in prev.iter_mut().enumerate() {
+        *p = j;
+    }
+    for (i, &ca) in a.iter().enumerate() {
+        cur[0] = i + 1;
+        let mut row_min = cur[0];
+        for (j, &cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != cb);
+            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
+            row_min = row_min.min(cur[j + 1]);
+        }
+        if row_min > limit {
+            return None;
+        }
+        std::mem::swap(&mut prev, &mut cur);
+    }
+    Some(prev[b.len()]).filter(|d| *d <= limit)
 }
 
 /// The closest of `candidates` to `name`, if close enough to be a typo.
 pub fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
     let limit = (name.len() / 3).clamp(1, 3);
-    let mut scored: Vec<(usize, &str)> =
-        candidates.map(|c| (distance(name, c), c)).filter(|(d, c)| *d <= limit && *c != name).collect();
+    let mut scored: Vec<(usize, &str)> = candidates
+        .filter(|c| *c != name)
+        .filter_map(|c| Some((distance_within(name, c, limit)?, c)))
+        .collect();
     scored.sort_unstable();
     scored.dedup();
     match scored.as_slice() {
@@ -257,5 +278,26 @@ impl<'a, 'db> Checker<'a, 'db> {
                 self.term(&Term::Var(v.clone()), false);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distances_are_bounded() {
+        assert_eq!(distance_within("kitten", "sitting", 3), Some(3));
+        assert_eq!(distance_within("kitten", "sitting", 2), None);
+        assert_eq!(distance_within("at-r", "at-r", 0), Some(0));
+        assert_eq!(distance_within("wpa_1_2", "wpa_1_3", 1), Some(1));
+        assert_eq!(distance_within("a", "abcde", 3), None);
+    }
+
+    #[test]
+    fn suggestions_need_one_clear_winner() {
+        assert_eq!(suggest("movr", ["move", "look"].into_iter()), Some("move"));
+        assert_eq!(suggest("t3", ["t1", "t2"].into_iter()), None);
+        assert_eq!(suggest("zzzzzz", ["move"].into_iter()), None);
     }
 }
