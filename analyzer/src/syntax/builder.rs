@@ -11,7 +11,7 @@ use rustc_hash::FxHashMap;
 
 use super::kind::SyntaxKind;
 
-type Element = NodeOrToken<GreenNode, GreenToken>;
+pub(crate) type Element = NodeOrToken<GreenNode, GreenToken>;
 
 /// Lists with more children than this have them in groups of this size.
 pub const GROUP_SIZE: usize = 512;
@@ -70,6 +70,17 @@ impl<'t> TreeBuilder<'t> {
             GreenNode::new(kind.into(), self.children.drain(first..))
         };
         self.children.push(NodeOrToken::Node(node));
+    }
+
+    /// Appends elements built elsewhere to the node being built.
+    pub(crate) fn extend(&mut self, elements: Vec<Element>) {
+        self.children.extend(elements);
+    }
+
+    /// The elements built, when no node is left open (a fragment of a list).
+    pub(crate) fn into_children(self) -> Vec<Element> {
+        debug_assert!(self.parents.is_empty(), "a fragment closes every list it opens");
+        self.children
     }
 
     /// The root: the one node left once every node is finished.

@@ -142,6 +142,8 @@ pub(crate) struct Parser<'t> {
     errors: Vec<SyntaxError>,
     /// Set when a re-parse would have to touch an ancestor: the caller falls back to a full parse.
     escaped: bool,
+    /// Whether a large `:init` may be built on two threads (tests compare both ways).
+    pub(crate) parallel: bool,
 }
 
 impl<'t> Parser<'t> {
@@ -163,6 +165,7 @@ impl<'t> Parser<'t> {
             stack: Vec::new(),
             errors: Vec::new(),
             escaped: false,
+            parallel: true,
         }
     }
 
@@ -312,10 +315,97 @@ impl<'t> Parser<'t> {
             }
             _ => {}
         }
+        let is_head = self.stack.last().is_some_and(|f| f.head == Some(range));
         if let Some(top) = self.stack.last_mut() {
             top.last = range;
         }
         self.bump();
+        if is_head && kind == SyntaxKind::Keyword && text.eq_ignore_ascii_case(":init") {
+            self.parallel_interior();
+        }
+    }
+
+    /// Builds the rest of a large `:init` on two threads, when nothing in it can
+    /// trigger recovery: its parentheses balance before the end of the file and
+    /// it holds no keyword (so no section or field starts inside). Then the
+    /// sequential parser would do nothing but open and close lists, which is
+    /// what each half does: the tree is the same, built in about half the time.
+    fn parallel_interior(&mut self) {
+        const PARALLEL_FROM_TOKENS: usize = 50_000;
+        if !self.parallel || self.stack.iter().any(|f| f.virtual_) {
+            return;
+        }
+        let start = self.pos;
+        let mut depth = 0usize;
+        let mut close = None;
+        for i in start..self.tokens.len() {
+            match self.tokens[i].kind {
+                SyntaxKind::LParen => depth += 1,
+                SyntaxKind::RParen if depth == 0 => {
+                    close = Some(i);
+                    break;
+                }
+                SyntaxKind::RParen => depth -= 1,
+                SyntaxKind::Keyword => return,
+                _ => {}
+            }
+        }
+        let Some(close) = close else { return };
+        if close - start < PARALLEL_FROM_TOKENS {
+            return;
+        }
+        // Split at the first top-level `(` after the middle.
+        let mid = start + (close - start) / 2;
+        let mut depth = 0usize;
+        let mut split = None;
+        for i in start..close {
+            match self.tokens[i].kind {
+                SyntaxKind::LParen if depth == 0 && i >= mid => {
+                    split = Some(i);
+                    break;
+                }
+                SyntaxKind::LParen => depth += 1,
+                SyntaxKind::RParen => depth -= 1,
+                _ => {}
+            }
+        }
+        let Some(split) = split else { return };
+        let this = &*self;
+        let halves = std::thread::scope(|scope| {
+            let second = scope.spawn(|| this.fragment(split, close));
+            let first = this.fragment(start, split);
+            second.join().ok().map(|second| (first, second))
+        });
+        let Some((first, second)) = halves else { return };
+        self.builder.extend(first);
+        self.builder.extend(second);
+        if let Some(last) = (start..close).rev().find(|&i| !self.tokens[i].kind.is_trivia()) {
+            let range = self.range(last);
+            if let Some(top) = self.stack.last_mut() {
+                top.last = range;
+            }
+        }
+        self.pos = close;
+    }
+
+    /// The elements of tokens `from..to`, which balance and need no recovery.
+    fn fragment(&self, from: usize, to: usize) -> Vec<super::builder::Element> {
+        let mut builder = TreeBuilder::new();
+        for i in from..to {
+            let kind = self.tokens[i].kind;
+            match kind {
+                SyntaxKind::LParen => {
+                    builder.start_node(SyntaxKind::List);
+                    builder.token(kind, self.token_text(i));
+                }
+                SyntaxKind::RParen => {
+                    builder.token(kind, self.token_text(i));
+                    builder.finish_node();
+                }
+                _ => builder.token(kind, self.token_text(i)),
+            }
+        }
+        builder.into_children()
     }
 
     fn close_paren(&mut self) {

@@ -33,6 +33,22 @@ fn big_problem() -> String {
 }
 
 #[test]
+fn a_large_init_built_on_two_threads_is_the_sequential_tree() {
+    let mut text = String::from("(define (problem big) (:domain d)\n  (:objects a b - thing)\n  (:init\n");
+    for i in 0..6000 {
+        text.push_str(&format!("    (road a b) (= (distance a b) {i}.5) ; note {i}\n"));
+    }
+    text.push_str("  )\n  (:goal (road a b)))\n");
+    let parallel = parse(&text);
+    let mut sequential = parser::Parser::new(&text);
+    sequential.parallel = false;
+    let (green, errors) = sequential.parse_file();
+    assert_eq!(parallel.text(), text);
+    assert!(errors.is_empty() && parallel.errors.is_empty());
+    assert_eq!(parallel.green, Green(green));
+}
+
+#[test]
 fn long_lists_are_grouped_and_print_back() {
     let text = big_problem();
     let p = parse(&text);
