@@ -34,25 +34,11 @@ fn absolute(db: &dyn Db, loc: Loc<'_>) -> (SourceFile, TextRange) {
     (loc.item.file(db), loc.span + loc.item.offset(db))
 }
 
-fn from_local(db: &dyn Db, item: Item<'_>, d: &LocalDiag) -> Diagnostic {
-    let file = item.file(db);
-    let off = item.offset(db);
-    Diagnostic {
-        code: d.code,
-        severity: d.code.severity,
-        file,
-        range: d.span + off,
-        message: d.message.clone(),
-        related: d
-            .related
-            .iter()
-            .map(|(r, m)| Related { file, range: *r + off, message: m.clone() })
-            .collect(),
-        fix: d
-            .fix
-            .as_ref()
-            .map(|(m, r, t)| Fix { message: m.clone(), edits: vec![(file, *r + off, t.clone())] }),
-    }
+/// A lowering diagnostic: its related spans are in the same item.
+fn from_local<'db>(db: &'db dyn Db, item: Item<'db>, d: &LocalDiag) -> Diagnostic {
+    let related = d.related.iter().map(|(span, m)| (Loc { item, span: *span }, m.clone())).collect();
+    let d = ItemDiag { code: d.code, span: d.span, message: d.message.clone(), related, fix: d.fix.clone() };
+    from_item(db, item, &d)
 }
 
 fn from_item(db: &dyn Db, item: Item<'_>, d: &ItemDiag<'_>) -> Diagnostic {
