@@ -98,7 +98,7 @@ fn main() {
     row(
         "generated 5 MB problem + its domain (hipop-samplegen big --size-mb 5)",
         bd.len() + bp.len(),
-        full_check(&bd, &bp, 7),
+        full_check(&bd, &bp, 15),
     );
     let (edit, total) = incremental(&bd, &bp, 50);
     println!();

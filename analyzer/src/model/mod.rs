@@ -121,7 +121,7 @@ impl CmpOp {
 /// A number, kept as written so that models compare exactly.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Number {
-    pub text: Box<str>,
+    pub text: Str,
     pub span: TextRange,
 }
 

@@ -76,6 +76,35 @@ pub fn lex(text: &str) -> Vec<Token> {
     tokens
 }
 
+/// Lexes like [`lex`], the two halves of a large text on two threads. The
+/// split is right after a newline, which no comment or atom contains: only a
+/// whitespace run can straddle it, and its two parts are joined back.
+pub fn lex_parallel(text: &str) -> Vec<Token> {
+    const PARALLEL_FROM_BYTES: usize = 1 << 20;
+    if text.len() < PARALLEL_FROM_BYTES {
+        return lex(text);
+    }
+    let Some(split) = text[text.len() / 2..].find('\n').map(|i| text.len() / 2 + i + 1) else {
+        return lex(text);
+    };
+    let (a, b) = text.split_at(split);
+    let (mut first, second) = std::thread::scope(|scope| {
+        let second = scope.spawn(|| lex(b));
+        (lex(a), second.join())
+    });
+    let Ok(second) = second else { return lex(text) };
+    let mut rest = second.as_slice();
+    if let (Some(last), Some(next)) = (first.last_mut(), rest.first())
+        && last.kind == SyntaxKind::Whitespace
+        && next.kind == SyntaxKind::Whitespace
+    {
+        last.len += next.len;
+        rest = &rest[1..];
+    }
+    first.extend_from_slice(rest);
+    first
+}
+
 /// Classifies an atom by its first characters.
 pub fn classify_atom(atom: &str) -> SyntaxKind {
     match atom.as_bytes() {
@@ -141,6 +170,16 @@ mod tests {
                 (Whitespace, "\n"),
             ]
         );
+    }
+
+    #[test]
+    fn parallel_lexing_equals_lexing() {
+        let mut text = String::new();
+        for i in 0..60_000 {
+            text.push_str(&format!("  (p o{i}) ; c\n\n   "));
+        }
+        assert!(text.len() > 1 << 20);
+        assert_eq!(lex_parallel(&text), lex(&text));
     }
 
     #[test]

@@ -18,7 +18,7 @@ use rowan::{GreenNode, TextRange, TextSize};
 use super::builder::TreeBuilder;
 
 use super::kind::SyntaxKind;
-use super::lexer::{Token, lex};
+use super::lexer::{Token, lex_parallel};
 
 /// What is wrong with the parentheses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -148,7 +148,7 @@ pub(crate) struct Parser<'t> {
 
 impl<'t> Parser<'t> {
     pub(crate) fn new(text: &'t str) -> Self {
-        let tokens = lex(text);
+        let tokens = lex_parallel(text);
         let mut offsets = Vec::with_capacity(tokens.len() + 1);
         let mut at = TextSize::from(0);
         for t in &tokens {

@@ -12,7 +12,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::resolve::resolve_domain;
 use super::symbols::{
-    DomainSymbols, Loc, ProblemSymbols, TypeSet, domain_symbols, problem_symbols, type_set,
+    DomainSymbols, Loc, ProblemSymbols, SigDecl, TypeSet, domain_symbols, problem_symbols, type_set,
 };
 use crate::db::{Db, Item, Unit, UnitKind, file_units, lower_item};
 use crate::diagnostic::{Code, codes};
@@ -82,6 +82,8 @@ pub fn check_item<'db>(db: &'db dyn Db, item: Item<'db>) -> ItemCheck<'db> {
         scope: Vec::new(),
         durative: false,
         ids: None,
+        last_predicate: None,
+        last_function: None,
         out: ItemCheck::default(),
     };
     cx.item_data(&lower_item(db, item).data);
@@ -101,6 +103,10 @@ struct Checker<'a, 'db> {
     durative: bool,
     /// Subtask ids of the task network being checked.
     ids: Option<FxHashSet<Str>>,
+    /// The last predicate and function looked up: consecutive facts of a
+    /// problem mostly share them, and a key comparison beats two hash lookups.
+    last_predicate: Option<(Str, &'a SigDecl<'db>)>,
+    last_function: Option<(Str, &'a SigDecl<'db>)>,
     out: ItemCheck<'db>,
 }
 

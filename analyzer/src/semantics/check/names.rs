@@ -159,6 +159,11 @@ impl<'a, 'db> Checker<'a, 'db> {
                 if numeric && c.key.parse::<f64>().is_ok() {
                     return None;
                 }
+                // In a problem, objects are what most terms name: look there first
+                // (an object named like a domain constant takes its place).
+                if let Some(d) = self.prob.and_then(|p| p.objects.get(&c.key)) {
+                    return Some(Cow::Borrowed(&d.ty));
+                }
                 if let Some(d) = dom.constants.get(&c.key) {
                     // Only domain constants can be unused declarations.
                     if !self.out.uses.constants.contains(&c.key) {
@@ -210,11 +215,22 @@ impl<'a, 'db> Checker<'a, 'db> {
     }
 
     pub(super) fn fluent(&mut self, f: &Fluent) -> Option<Cow<'a, [Str]>> {
+        if let Some((key, decl)) = &self.last_function
+            && *key == f.func.key
+        {
+            let decl = *decl;
+            self.args(&f.func, &f.args, f.span, decl, false);
+            return decl.result.as_deref().map(Cow::Borrowed);
+        }
         if !self.out.uses.functions.contains(&f.func.key) {
             self.out.uses.functions.insert(f.func.key.clone());
         }
         let dom = self.dom;
-        match dom.functions.get(&f.func.key) {
+        let found = dom.functions.get(&f.func.key);
+        if let Some(decl) = found {
+            self.last_function = Some((f.func.key.clone(), decl));
+        }
+        match found {
             Some(decl) => {
                 self.args(&f.func, &f.args, f.span, decl, false);
                 decl.result.as_deref().map(Cow::Borrowed)
@@ -233,11 +249,21 @@ impl<'a, 'db> Checker<'a, 'db> {
     }
 
     pub(super) fn atom(&mut self, a: &Atom, wildcards: bool) {
+        if let Some((key, decl)) = &self.last_predicate
+            && *key == a.pred.key
+        {
+            let decl = *decl;
+            return self.args(&a.pred, &a.args, a.span, decl, wildcards);
+        }
         if !self.out.uses.predicates.contains(&a.pred.key) {
             self.out.uses.predicates.insert(a.pred.key.clone());
         }
         let dom = self.dom;
-        match dom.predicates.get(&a.pred.key) {
+        let found = dom.predicates.get(&a.pred.key);
+        if let Some(decl) = found {
+            self.last_predicate = Some((a.pred.key.clone(), decl));
+        }
+        match found {
             Some(decl) => self.args(&a.pred, &a.args, a.span, decl, wildcards),
             None => {
                 for t in &a.args {
