@@ -12,10 +12,16 @@ fn median(mut v: Vec<Duration>) -> Duration {
     v[v.len() / 2]
 }
 
+fn minimum(v: &[Duration]) -> Duration {
+    v.iter().copied().min().unwrap_or_default()
+}
+
 /// Full check from scratch: a new database, parse, lower, check every item of
 /// the domain and of the problem, collect every diagnostic of both files.
-fn full_check(domain: &str, problem: &str, runs: usize) -> Duration {
-    let times = (0..runs)
+/// Returns the median and the fastest run (on a shared machine the fastest is
+/// the best estimate of the work itself, the median of what a user sees).
+fn full_check(domain: &str, problem: &str, runs: usize) -> (Duration, Duration) {
+    let times: Vec<Duration> = (0..runs)
         .map(|_| {
             let start = Instant::now();
             let mut host = AnalysisHost::new();
@@ -33,12 +39,19 @@ fn full_check(domain: &str, problem: &str, runs: usize) -> Duration {
             elapsed
         })
         .collect();
-    median(times)
+    (median(times.clone()), minimum(&times))
 }
 
-fn row(name: &str, bytes: usize, t: Duration) {
-    let mbps = bytes as f64 / 1e6 / t.as_secs_f64();
-    println!("| {name} | {:.2} MB | {:.1} ms | {mbps:.0} MB/s |", bytes as f64 / 1e6, t.as_secs_f64() * 1e3);
+fn row(name: &str, bytes: usize, (median, min): (Duration, Duration)) {
+    let mbps = |t: Duration| bytes as f64 / 1e6 / t.as_secs_f64();
+    println!(
+        "| {name} | {:.2} MB | {:.1} ms | {:.0} MB/s | {:.1} ms | {:.0} MB/s |",
+        bytes as f64 / 1e6,
+        median.as_secs_f64() * 1e3,
+        mbps(median),
+        min.as_secs_f64() * 1e3,
+        mbps(min)
+    );
 }
 
 /// A one-character edit inside one `:init` fact, and back, through the incremental path.
@@ -77,8 +90,8 @@ fn incremental(domain: &str, problem: &str, runs: usize) -> (Duration, Duration)
 
 fn main() {
     // `cargo bench` passes `--bench`; the harness takes no options.
-    println!("| input | size | full check (median) | throughput |");
-    println!("|---|---|---|---|");
+    println!("| input | size | full check, median | throughput | fastest run | throughput |");
+    println!("|---|---|---|---|---|---|");
     let corpora = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpora/ipc2002-temporal");
     let largest = corpora.join("driverlog-time-hand-coded/instances/instance-20.pddl");
     match (
