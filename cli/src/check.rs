@@ -29,8 +29,12 @@ pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
     for &f in &files {
         match analysis.diagnostics(f) {
             Ok(d) => diagnostics.extend(d),
-            // Nothing writes to the database while the CLI reads it.
-            Err(_) => unreachable!("no change can cancel the CLI's analysis"),
+            // Nothing writes to the database while the CLI reads it, so this
+            // cannot happen; if it ever did, say so rather than print half a result.
+            Err(_) => {
+                eprintln!("error: the analysis was interrupted; this is a bug in hipop, please report it");
+                return 2;
+            }
         }
     }
     let sources = Sources::new(&analysis, &files);
