@@ -9,8 +9,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
-/// Check, plan and serve multi-robot missions written in extended HTN-PDDL
-/// (PDDL 2.1 temporal domains, HDDL hierarchical domains and the HiPOP extensions).
+/// Check multi-robot missions written in extended HTN-PDDL (PDDL 2.1 temporal
+/// domains, HDDL hierarchical domains and the HiPOP extensions), and serve them
+/// to editors.
 #[derive(Debug, Parser)]
 #[command(name = "hipop", version, about, long_about = None, arg_required_else_help = true)]
 struct Cli {
