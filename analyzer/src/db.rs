@@ -339,7 +339,10 @@ pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> 
                 .iter()
                 .map(|(r, m)| crate::diagnostic::Related { file, range: *r, message: m.clone() })
                 .collect(),
-            fix: None,
+            fix: e.fix.as_ref().map(|(range, text)| crate::diagnostic::Fix {
+                message: if text.is_empty() { "remove this `)`".into() } else { format!("insert `{text}`") },
+                edits: vec![(file, *range, text.clone())],
+            }),
         })
         .collect();
     let root = parse.syntax();

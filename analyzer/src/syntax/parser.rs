@@ -37,6 +37,8 @@ pub struct SyntaxError {
     pub message: String,
     /// The `(` that is not closed, for missing parentheses.
     pub related: Option<(TextRange, String)>,
+    /// The edit that repairs the parentheses: a range and what replaces it.
+    pub fix: Option<(TextRange, String)>,
 }
 
 /// Heads of lists that are sections of a `define`.
@@ -236,6 +238,7 @@ impl<'t> Parser<'t> {
             range: innermost.last,
             message,
             related: Some(related),
+            fix: Some((TextRange::empty(innermost.last.end()), ")".repeat(count))),
         });
         while self.stack.len() > keep {
             let frame = self.stack.pop().expect("non-empty stack");
@@ -463,7 +466,13 @@ impl<'t> Parser<'t> {
         self.builder.start_node(SyntaxKind::Error);
         self.bump();
         self.builder.finish_node();
-        self.errors.push(SyntaxError { kind: SyntaxErrorKind::ExtraParen, range, message, related: None });
+        self.errors.push(SyntaxError {
+            kind: SyntaxErrorKind::ExtraParen,
+            range,
+            message,
+            related: None,
+            fix: Some((range, String::new())),
+        });
     }
 
     /// Parses a whole file.

@@ -85,6 +85,9 @@ pub(super) fn reparse_list(old: &Parse, edit: &TextEdit) -> Option<Parse> {
             if let Some((r, m)) = e.related.take() {
                 e.related = Some((shift(r), m));
             }
+            if let Some((r, t)) = e.fix.take() {
+                e.fix = Some((shift(r), t));
+            }
             e
         })
         .collect();
