@@ -138,7 +138,15 @@ proptest! {
         let a = incremental.analysis();
         let b = scratch.analysis();
         let shown = |a: &hipop_analyzer::Analysis, f| {
-            a.diagnostics(f).unwrap().iter().map(|d| (d.code.id, d.range, d.message.clone())).collect::<Vec<_>>()
+            a.diagnostics(f)
+                .unwrap()
+                .iter()
+                .map(|d| {
+                    let related: Vec<_> = d.related.iter().map(|r| (r.range, r.message.clone())).collect();
+                    let fix = d.fix.as_ref().map(|x| x.edits.iter().map(|(_, r, t)| (*r, t.clone())).collect::<Vec<_>>());
+                    (d.code.id, d.range, d.message.clone(), related, fix)
+                })
+                .collect::<Vec<_>>()
         };
         prop_assert_eq!(shown(&a, f), shown(&b, g));
         for p in probes {
