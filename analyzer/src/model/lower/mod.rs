@@ -97,6 +97,18 @@ impl Cx {
         }
     }
 
+    /// The atoms of kind `kind` in `elems`; anything else is reported with `what`.
+    fn names_of(&mut self, elems: &[GSexp<'_>], kind: SyntaxKind, what: &str) -> Vec<Name> {
+        let mut names = Vec::new();
+        for e in elems {
+            match e {
+                GSexp::Atom(t) if t.kind() == kind => names.push(self.name(t)),
+                other => self.malformed(other, what),
+            }
+        }
+        names
+    }
+
     fn section(&mut self, list: &GList<'_>) -> ItemData {
         let elems: Elems<'_> = list.elements().collect();
         let Some(head) = elems.first() else {
@@ -119,16 +131,11 @@ impl Cx {
                 Some(n) => ItemData::DomainRef(n),
                 None => ItemData::Unknown,
             },
-            ":requirements" => {
-                let mut reqs = Vec::new();
-                for r in rest {
-                    match r {
-                        GSexp::Atom(t) if t.kind() == SyntaxKind::Keyword => reqs.push(self.name(t)),
-                        other => self.malformed(other, "expected a requirement like `:typing`"),
-                    }
-                }
-                ItemData::Requirements(reqs)
-            }
+            ":requirements" => ItemData::Requirements(self.names_of(
+                rest,
+                SyntaxKind::Keyword,
+                "expected a requirement like `:typing`",
+            )),
             ":types" => ItemData::Types(self.typed_list(rest, false)),
             ":constants" => ItemData::Constants(self.typed_list(rest, false)),
             ":objects" => ItemData::Objects(self.typed_list(rest, false)),
@@ -159,16 +166,11 @@ impl Cx {
                 let network = TaskNetwork { subtasks, ordered: true, ..TaskNetwork::default() };
                 ItemData::Htn(Htn { params: Vec::new(), network, span })
             }
-            ":allowed-actions" => {
-                let mut names = Vec::new();
-                for r in rest {
-                    match r {
-                        GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol => names.push(self.name(t)),
-                        other => self.malformed(other, "expected the name of an action or task"),
-                    }
-                }
-                ItemData::AllowedActions(names)
-            }
+            ":allowed-actions" => ItemData::AllowedActions(self.names_of(
+                rest,
+                SyntaxKind::Symbol,
+                "expected the name of an action or task",
+            )),
             ":metric" => match rest {
                 [dir, expr] if dir.is_atom("minimize") || dir.is_atom("maximize") => {
                     let t = dir.as_atom().expect("checked atom");
