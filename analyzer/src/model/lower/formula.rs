@@ -35,14 +35,25 @@ impl Cx {
 
     /// An atom from the elements of its list `e`, already collected.
     pub(super) fn atom_of(&mut self, e: &GSexp<'_>, inner: &[GSexp<'_>]) -> Option<Atom> {
+        let (pred, args, span) = self.application(e, inner, "expected an atom like `(p ?x)`")?;
+        Some(Atom { pred, args, span })
+    }
+
+    /// `(name term…)` (an atom, a function term, a task call), from the
+    /// elements of its list `e`: the name, the terms and the list's span.
+    pub(super) fn application(
+        &mut self,
+        e: &GSexp<'_>,
+        inner: &[GSexp<'_>],
+        what: &str,
+    ) -> Option<(Name, Vec<Term>, TextRange)> {
         match inner.first() {
-            Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(Atom {
-                pred: self.name(t),
-                args: inner[1..].iter().filter_map(|a| self.term(a)).collect(),
-                span: self.span(e.range()),
-            }),
+            Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => {
+                let name = self.name(t);
+                Some((name, inner[1..].iter().filter_map(|a| self.term(a)).collect(), e.range()))
+            }
             _ => {
-                self.malformed(e, "expected an atom like `(p ?x)`");
+                self.malformed(e, what);
                 None
             }
         }
@@ -52,20 +63,12 @@ impl Cx {
         match e {
             GSexp::List(l) => {
                 let inner: Elems<'_> = l.elements().collect();
-                match inner.first() {
-                    Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(Fluent {
-                        func: self.name(t),
-                        args: inner[1..].iter().filter_map(|a| self.term(a)).collect(),
-                        span: self.span(l.range()),
-                    }),
-                    _ => {
-                        self.malformed(e, "expected a function term like `(f ?x)`");
-                        None
-                    }
-                }
+                let (func, args, span) =
+                    self.application(e, &inner, "expected a function term like `(f ?x)`")?;
+                Some(Fluent { func, args, span })
             }
             GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol => {
-                Some(Fluent { func: self.name(t), args: Vec::new(), span: self.span(t.text_range()) })
+                Some(Fluent { func: self.name(t), args: Vec::new(), span: t.text_range() })
             }
             other => {
                 self.malformed(other, "expected a function term like `(f ?x)`");
@@ -77,25 +80,19 @@ impl Cx {
     pub(super) fn num_expr(&mut self, e: &GSexp<'_>) -> NumExpr {
         match e {
             GSexp::Atom(t) => match t.kind() {
-                SyntaxKind::Number => {
-                    NumExpr::Number(Number { text: t.text().into(), span: self.span(t.text_range()) })
-                }
+                SyntaxKind::Number => NumExpr::Number(Number { text: t.text().into(), span: t.text_range() }),
                 SyntaxKind::Variable if t.text().eq_ignore_ascii_case("?duration") => {
-                    NumExpr::Duration(self.span(t.text_range()))
+                    NumExpr::Duration(t.text_range())
                 }
                 SyntaxKind::Variable => NumExpr::Var(self.name(t)),
                 _ if t.text() == "#t" || t.text().eq_ignore_ascii_case("total-time") => {
-                    NumExpr::Special(t.text().to_ascii_lowercase().into(), self.span(t.text_range()))
+                    NumExpr::Special(t.text().to_ascii_lowercase().into(), t.text_range())
                 }
-                _ => NumExpr::Fluent(Fluent {
-                    func: self.name(t),
-                    args: Vec::new(),
-                    span: self.span(t.text_range()),
-                }),
+                _ => NumExpr::Fluent(Fluent { func: self.name(t), args: Vec::new(), span: t.text_range() }),
             },
             GSexp::List(l) => {
                 let inner: Elems<'_> = l.elements().collect();
-                let span = self.span(l.range());
+                let span = l.range();
                 match inner.first().and_then(|h| h.atom_text()) {
                     Some(op @ ("+" | "-" | "*" | "/")) if inner.len() >= 2 => {
                         let op: Box<str> = op.into();
@@ -140,9 +137,9 @@ impl Cx {
     pub(super) fn gd(&mut self, e: &GSexp<'_>) -> Gd {
         let GSexp::List(l) = e else {
             self.malformed(e, "expected a condition in parentheses");
-            return Gd::And(Vec::new(), self.span(e.range()));
+            return Gd::And(Vec::new(), e.range());
         };
-        let span = self.span(l.range());
+        let span = l.range();
         let inner: Elems<'_> = l.elements().collect();
         if let Some(ts) = Self::timed_head(&inner) {
             return Gd::Timed(ts, Box::new(self.gd(&inner[2])), span);
@@ -269,9 +266,9 @@ impl Cx {
     pub(super) fn effect(&mut self, e: &GSexp<'_>) -> Effect {
         let GSexp::List(l) = e else {
             self.malformed(e, "expected an effect in parentheses");
-            return Effect::And(Vec::new(), self.span(e.range()));
+            return Effect::And(Vec::new(), e.range());
         };
-        let span = self.span(l.range());
+        let span = l.range();
         let inner: Elems<'_> = l.elements().collect();
         if let Some(ts) = Self::timed_head(&inner) {
             return Effect::Timed(ts, Box::new(self.effect(&inner[2])), span);
@@ -318,7 +315,7 @@ impl Cx {
                 [target, value] => match self.fluent(target) {
                     Some(f) => {
                         let v = if value.is_atom("undefined") {
-                            NumExpr::Special("undefined".into(), self.span(value.range()))
+                            NumExpr::Special("undefined".into(), value.range())
                         } else {
                             self.num_expr(value)
                         };

@@ -62,21 +62,17 @@ fn atom_kind(s: &GSexp<'_>) -> Option<SyntaxKind> {
 }
 
 impl Cx {
-    fn span(&self, r: TextRange) -> TextRange {
-        r
-    }
-
     fn error(&mut self, code: &'static crate::diagnostic::Code, span: TextRange, msg: impl Into<String>) {
         self.diags.push(LocalDiag::new(code, span, msg));
     }
 
     fn malformed(&mut self, at: &GSexp<'_>, msg: impl Into<String>) {
-        let span = self.span(at.range());
+        let span = at.range();
         self.error(codes::MALFORMED, span, msg);
     }
 
     fn name(&self, t: &GAtom<'_>) -> Name {
-        Name::new(t.text(), self.span(t.text_range()))
+        Name::new(t.text(), t.text_range())
     }
 
     /// An atom that names something (not a variable, keyword or list).
@@ -90,7 +86,7 @@ impl Cx {
                 None
             }
             None => {
-                let span = self.span(after);
+                let span = after;
                 self.error(codes::MALFORMED, span, format!("expected {what}"));
                 None
             }
@@ -112,7 +108,7 @@ impl Cx {
     fn section(&mut self, list: &GList<'_>) -> ItemData {
         let elems: Elems<'_> = list.elements().collect();
         let Some(head) = elems.first() else {
-            self.error(codes::MALFORMED, self.span(list.range()), "empty section `()`");
+            self.error(codes::MALFORMED, list.range(), "empty section `()`");
             return ItemData::Unknown;
         };
         let Some(head_text) = head.atom_text().map(str::to_ascii_lowercase) else {
@@ -152,7 +148,7 @@ impl Cx {
             ":init" => ItemData::Init(rest.iter().filter_map(|e| self.init_element(e)).collect()),
             ":goal" => match rest {
                 [g] => ItemData::Goal(self.gd(g)),
-                [] => ItemData::Goal(Gd::And(Vec::new(), self.span(list.range()))),
+                [] => ItemData::Goal(Gd::And(Vec::new(), list.range())),
                 [_, extra, ..] => {
                     self.malformed(extra, "`:goal` takes one goal description: wrap several in `(and …)`");
                     ItemData::Goal(self.gd(&rest[0]))
@@ -161,7 +157,7 @@ impl Cx {
             ":htn" | ":tihtn" | ":htnti" => self.htn(list, rest),
             // HPDDL problems list their initial tasks directly.
             ":tasks" => {
-                let span = self.span(list.range());
+                let span = list.range();
                 let subtasks = rest.iter().filter_map(|x| self.subtask(x)).collect();
                 let network = TaskNetwork { subtasks, ordered: true, ..TaskNetwork::default() };
                 ItemData::Htn(Htn { params: Vec::new(), network, span })
@@ -179,7 +175,7 @@ impl Cx {
                 _ => {
                     self.error(
                         codes::MALFORMED,
-                        self.span(list.range()),
+                        list.range(),
                         "expected `(:metric minimize <expression>)` or `(:metric maximize <expression>)`",
                     );
                     ItemData::Unknown
@@ -188,18 +184,14 @@ impl Cx {
             ":constraints" => match rest {
                 [g] => ItemData::Constraints(self.gd(g)),
                 _ => {
-                    self.error(
-                        codes::MALFORMED,
-                        self.span(list.range()),
-                        "`:constraints` takes one goal description",
-                    );
+                    self.error(codes::MALFORMED, list.range(), "`:constraints` takes one goal description");
                     ItemData::Unknown
                 }
             },
             _ => {
                 self.error(
                     codes::UNKNOWN_SECTION,
-                    self.span(head.range()),
+                    head.range(),
                     format!("unknown section `{}`", head.atom_text().unwrap_or_default()),
                 );
                 ItemData::Unknown
@@ -306,12 +298,7 @@ impl Cx {
                         Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => {
                             let name = self.name(t);
                             let params = self.typed_list(&inner[1..], true);
-                            out.push(Signature {
-                                name,
-                                params,
-                                result: TypeRef::Implicit,
-                                span: self.span(l.range()),
-                            });
+                            out.push(Signature { name, params, result: TypeRef::Implicit, span: l.range() });
                         }
                         Some(other) => self.malformed(other, "expected a name"),
                         None => self.malformed(e, "expected a declaration like `(name ?x - t)`"),
@@ -349,7 +336,7 @@ impl Cx {
                     if !allowed.contains(&key.as_str()) {
                         self.error(
                             codes::UNKNOWN_SECTION,
-                            self.span(t.text_range()),
+                            t.text_range(),
                             format!(
                                 "`{}` is not a field of {what} (expected one of {})",
                                 t.text(),
@@ -357,22 +344,18 @@ impl Cx {
                             ),
                         );
                     } else if value.is_none() {
-                        self.error(
-                            codes::MALFORMED,
-                            self.span(t.text_range()),
-                            format!("`{}` needs a value", t.text()),
-                        );
+                        self.error(codes::MALFORMED, t.text_range(), format!("`{}` needs a value", t.text()));
                     } else if let Some((_, first, _)) = out.iter().find(|(k, _, _)| *k == key) {
                         let first = *first;
                         let d = LocalDiag::new(
                             codes::DUPLICATE,
-                            self.span(t.text_range()),
+                            t.text_range(),
                             format!("`{}` is given twice in {what}: only one is allowed", t.text()),
                         )
                         .with_related(first, "first given here");
                         self.diags.push(d);
                     } else {
-                        out.push((key, self.span(t.text_range()), value));
+                        out.push((key, t.text_range(), value));
                     }
                     i += if value.is_some() { 2 } else { 1 };
                 }
@@ -542,8 +525,7 @@ impl Cx {
             ":order",
             ":constraints",
         ];
-        let mut htn =
-            Htn { params: Vec::new(), network: TaskNetwork::default(), span: self.span(list.range()) };
+        let mut htn = Htn { params: Vec::new(), network: TaskNetwork::default(), span: list.range() };
         for (key, _, value) in self.fields(rest, allowed, "an initial task network") {
             let value = value.expect("fields have values");
             match key.as_str() {
@@ -566,16 +548,12 @@ impl Cx {
                 let atom = Atom {
                     pred: self.name(t),
                     args: params.iter().map(|p| Term::Var(p.name.clone())).collect(),
-                    span: self.span(p.range()),
+                    span: p.range(),
                 };
                 ItemData::Derived(atom, params, self.gd(body))
             }
             _ => {
-                self.error(
-                    codes::MALFORMED,
-                    self.span(head.range()),
-                    "expected `(:derived (p ?x - t) <condition>)`",
-                );
+                self.error(codes::MALFORMED, head.range(), "expected `(:derived (p ?x - t) <condition>)`");
                 ItemData::Unknown
             }
         }
@@ -586,13 +564,13 @@ impl Cx {
             self.malformed(e, "expected an initial fact like `(p a b)`");
             return None;
         };
-        let span = self.span(l.range());
+        let span = l.range();
         let inner: Elems<'_> = l.elements().collect();
         match inner.as_slice() {
             [at, GSexp::Atom(n), lit @ GSexp::List(_)]
                 if at.is_atom("at") && n.kind() == SyntaxKind::Number =>
             {
-                let time = Number { text: n.text().into(), span: self.span(n.text_range()) };
+                let time = Number { text: n.text().into(), span: n.text_range() };
                 let inner = self.init_element(lit)?;
                 Some(InitElement::Timed(time, Box::new(inner), span))
             }

@@ -61,17 +61,8 @@ impl Cx {
         match e {
             GSexp::List(l) => {
                 let inner: Elems<'_> = l.elements().collect();
-                match inner.first() {
-                    Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(TaskCall {
-                        name: self.name(t),
-                        args: inner[1..].iter().filter_map(|a| self.term(a)).collect(),
-                        span: self.span(l.range()),
-                    }),
-                    _ => {
-                        self.malformed(e, "expected a task like `(name ?x …)`");
-                        None
-                    }
-                }
+                let (name, args, span) = self.application(e, &inner, "expected a task like `(name ?x …)`")?;
+                Some(TaskCall { name, args, span })
             }
             other => {
                 self.malformed(other, "expected a task like `(name ?x …)`");
@@ -167,7 +158,7 @@ impl Cx {
         {
             return self.ordering(inner_e).map(|mut o| {
                 o.negated = !o.negated;
-                o.span = self.span(l.range());
+                o.span = l.range();
                 o
             });
         }
@@ -182,6 +173,6 @@ impl Cx {
         };
         let left = self.order_point(a)?;
         let right = self.order_point(b)?;
-        Some(Ordering { op, negated: false, left, right, span: self.span(l.range()) })
+        Some(Ordering { op, negated: false, left, right, span: l.range() })
     }
 }
