@@ -21,8 +21,6 @@ pub use parser::{FIELD_KEYWORDS, ITEM_HEADS, SECTION_HEADS, SyntaxError, SyntaxE
 pub use reparse::TextEdit;
 pub use rowan::{GreenNode, GreenToken, NodeOrToken, TextRange, TextSize};
 
-/// A green node or token.
-pub type GreenElement = NodeOrToken<GreenNode, GreenToken>;
 pub use sexp::{List, Sexp};
 
 /// A green tree compared by pointer first: unchanged subtrees shared between two
