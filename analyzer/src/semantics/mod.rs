@@ -211,7 +211,8 @@ fn pddl_plus(db: &dyn Db, unit: Unit<'_>) -> Option<Diagnostic> {
         .iter()
         .copied()
         .filter(|&i| {
-            matches!(&lower_item(db, i).data, ItemData::Action(a) if matches!(a.kind, ActionKind::Process | ActionKind::Event))
+            i.section(db) == Section::Action
+                && matches!(&lower_item(db, i).data, ItemData::Action(a) if matches!(a.kind, ActionKind::Process | ActionKind::Event))
         })
         .collect();
     if let Some((&first, rest)) = plus.split_first() {

@@ -7,7 +7,7 @@ use crate::model::Str;
 use rowan::TextRange;
 use rustc_hash::{FxHashMap, FxHashSet};
 
-use crate::db::{Db, Item, Unit, UnitKind, lower_item};
+use crate::db::{Db, Item, Section, Unit, UnitKind, lower_item};
 use crate::model::{ActionKind, ItemData, TypeRef, Typed};
 
 /// A span inside an item.
@@ -317,7 +317,10 @@ pub struct ProblemSymbols<'db> {
 #[salsa::tracked(returns(ref))]
 pub fn problem_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> ProblemSymbols<'db> {
     let mut s = ProblemSymbols::default();
-    for &item in unit.items(db) {
+    // Only these sections declare anything: lowering the others (a large
+    // `:init`) here would serialise what the checks lower in parallel.
+    let declares = |i: &&Item<'db>| matches!(i.section(db), Section::Requirements | Section::Objects);
+    for &item in unit.items(db).iter().filter(declares) {
         match &lower_item(db, item).data {
             ItemData::Requirements(reqs) => s.requirements.extend(reqs.iter().map(|r| r.key.clone())),
             ItemData::Objects(objs) => {
