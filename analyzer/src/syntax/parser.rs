@@ -13,12 +13,12 @@
 //! - a `)` that would close an item right before one of its field keywords, or
 //!   a `define` right before a new section, is an extra `)`.
 
-use rowan::{GreenNode, TextRange, TextSize};
+use rowan::{GreenNode, TextRange};
 
 use super::builder::TreeBuilder;
 
 use super::kind::SyntaxKind;
-use super::lexer::{Token, lex_parallel};
+use super::lexer::{Tokens, lex_parallel};
 
 /// What is wrong with the parentheses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -136,8 +136,9 @@ struct Frame {
 
 pub(crate) struct Parser<'t> {
     text: &'t str,
-    tokens: Vec<Token>,
-    offsets: Vec<TextSize>,
+    /// Token kinds; token `i` covers `offsets[i]..offsets[i + 1]`.
+    kinds: Vec<SyntaxKind>,
+    offsets: Vec<u32>,
     pos: usize,
     builder: TreeBuilder<'t>,
     stack: Vec<Frame>,
@@ -150,17 +151,10 @@ pub(crate) struct Parser<'t> {
 
 impl<'t> Parser<'t> {
     pub(crate) fn new(text: &'t str) -> Self {
-        let tokens = lex_parallel(text);
-        let mut offsets = Vec::with_capacity(tokens.len() + 1);
-        let mut at = TextSize::from(0);
-        for t in &tokens {
-            offsets.push(at);
-            at += TextSize::from(t.len);
-        }
-        offsets.push(at);
+        let Tokens { kinds, starts: offsets } = lex_parallel(text);
         Parser {
             text,
-            tokens,
+            kinds,
             offsets,
             pos: 0,
             builder: TreeBuilder::new(),
@@ -172,19 +166,19 @@ impl<'t> Parser<'t> {
     }
 
     fn range(&self, i: usize) -> TextRange {
-        TextRange::new(self.offsets[i], self.offsets[i + 1])
+        TextRange::new(self.offsets[i].into(), self.offsets[i + 1].into())
     }
 
     fn token_text(&self, i: usize) -> &'t str {
-        &self.text[self.range(i)]
+        &self.text[self.offsets[i] as usize..self.offsets[i + 1] as usize]
     }
 
     fn next_significant(&self, from: usize) -> Option<usize> {
-        (from..self.tokens.len()).find(|&i| !self.tokens[i].kind.is_trivia())
+        (from..self.kinds.len()).find(|&i| !self.kinds[i].is_trivia())
     }
 
     fn bump(&mut self) {
-        let kind = self.tokens[self.pos].kind;
+        let kind = self.kinds[self.pos];
         let text = self.token_text(self.pos);
         self.builder.token(kind, text);
         self.pos += 1;
@@ -192,9 +186,8 @@ impl<'t> Parser<'t> {
 
     /// Whether the list starting at token `i` (a `(`) is a section of a `define`.
     fn starts_section(&self, i: usize) -> bool {
-        self.next_significant(i + 1).is_some_and(|j| {
-            self.tokens[j].kind == SyntaxKind::Keyword && is_in(SECTION_HEADS, self.token_text(j))
-        })
+        self.next_significant(i + 1)
+            .is_some_and(|j| self.kinds[j] == SyntaxKind::Keyword && is_in(SECTION_HEADS, self.token_text(j)))
     }
 
     /// The head of a list, when it names the list (`define`, `:action`, `and`):
@@ -250,11 +243,11 @@ impl<'t> Parser<'t> {
 
     /// Parses tokens until the end, or until the stack is back to `stop` lists.
     fn parse_tokens(&mut self, stop: Option<usize>) {
-        while self.pos < self.tokens.len() && !self.escaped {
+        while self.pos < self.kinds.len() && !self.escaped {
             if stop.is_some_and(|s| self.stack.len() == s) && self.pos > 0 {
                 return;
             }
-            let kind = self.tokens[self.pos].kind;
+            let kind = self.kinds[self.pos];
             match kind {
                 SyntaxKind::Whitespace | SyntaxKind::Comment => self.bump(),
                 SyntaxKind::LParen => {
@@ -290,7 +283,7 @@ impl<'t> Parser<'t> {
     fn atom(&mut self) {
         let range = self.range(self.pos);
         let text = self.token_text(self.pos);
-        let kind = self.tokens[self.pos].kind;
+        let kind = self.kinds[self.pos];
         match self.stack.last().map(|f| f.category) {
             Some(Category::Unknown) => {
                 let top = self.stack.last_mut().expect("non-empty stack");
@@ -341,8 +334,8 @@ impl<'t> Parser<'t> {
         let start = self.pos;
         let mut depth = 0usize;
         let mut close = None;
-        for i in start..self.tokens.len() {
-            match self.tokens[i].kind {
+        for i in start..self.kinds.len() {
+            match self.kinds[i] {
                 SyntaxKind::LParen => depth += 1,
                 SyntaxKind::RParen if depth == 0 => {
                     close = Some(i);
@@ -362,7 +355,7 @@ impl<'t> Parser<'t> {
         let mut depth = 0usize;
         let mut split = None;
         for i in start..close {
-            match self.tokens[i].kind {
+            match self.kinds[i] {
                 SyntaxKind::LParen if depth == 0 && i >= mid => {
                     split = Some(i);
                     break;
@@ -382,7 +375,7 @@ impl<'t> Parser<'t> {
         let Some((first, second)) = halves else { return };
         self.builder.extend(first);
         self.builder.extend(second);
-        if let Some(last) = (start..close).rev().find(|&i| !self.tokens[i].kind.is_trivia()) {
+        if let Some(last) = (start..close).rev().find(|&i| !self.kinds[i].is_trivia()) {
             let range = self.range(last);
             if let Some(top) = self.stack.last_mut() {
                 top.last = range;
@@ -395,7 +388,7 @@ impl<'t> Parser<'t> {
     fn fragment(&self, from: usize, to: usize) -> Vec<super::builder::Element> {
         let mut builder = TreeBuilder::new();
         for i in from..to {
-            let kind = self.tokens[i].kind;
+            let kind = self.kinds[i];
             match kind {
                 SyntaxKind::LParen => {
                     builder.start_node(SyntaxKind::List);
@@ -427,18 +420,16 @@ impl<'t> Parser<'t> {
         let names_section = top.head.is_some_and(|h| self.text[h].starts_with(':'));
         let extra = match (top.category, next) {
             (Category::Item, Some(j)) => {
-                self.tokens[j].kind == SyntaxKind::Keyword && is_in(FIELD_KEYWORDS, self.token_text(j))
+                self.kinds[j] == SyntaxKind::Keyword && is_in(FIELD_KEYWORDS, self.token_text(j))
             }
-            (Category::Define, Some(j)) => {
-                self.tokens[j].kind == SyntaxKind::LParen && self.starts_section(j)
-            }
+            (Category::Define, Some(j)) => self.kinds[j] == SyntaxKind::LParen && self.starts_section(j),
             // A section of a `define` closed right before a list that is no
             // section (`(:init (at a b)) (road a b))`): the `)` is extra.
             (Category::Other, Some(j)) if parent_is_define && names_section => {
-                self.tokens[j].kind == SyntaxKind::LParen
+                self.kinds[j] == SyntaxKind::LParen
                     && self.next_significant(j + 1).is_some_and(|k| {
                         matches!(
-                            self.tokens[k].kind,
+                            self.kinds[k],
                             SyntaxKind::Symbol | SyntaxKind::Variable | SyntaxKind::Number
                         )
                     })
@@ -490,7 +481,7 @@ impl<'t> Parser<'t> {
     /// would report an error or change its ancestors: then only a full parse is
     /// equivalent.
     pub(crate) fn parse_list_in(mut self, ancestors: &[AncestorKind]) -> Option<GreenNode> {
-        if self.tokens.first().map(|t| t.kind) != Some(SyntaxKind::LParen) {
+        if self.kinds.first().copied() != Some(SyntaxKind::LParen) {
             return None;
         }
         let dummy = TextRange::empty(0.into());
@@ -513,10 +504,7 @@ impl<'t> Parser<'t> {
             return None;
         }
         self.parse_tokens(Some(base));
-        if self.escaped
-            || !self.errors.is_empty()
-            || self.stack.len() != base
-            || self.pos != self.tokens.len()
+        if self.escaped || !self.errors.is_empty() || self.stack.len() != base || self.pos != self.kinds.len()
         {
             return None;
         }
