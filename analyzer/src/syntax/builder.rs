@@ -23,7 +23,7 @@ pub(crate) struct TreeBuilder<'t> {
     children: Vec<Element>,
     single: [Option<GreenToken>; 128],
     short: FxHashMap<u64, GreenToken>,
-    long: FxHashMap<&'t str, GreenToken>,
+    long: FxHashMap<&'t [u8], GreenToken>,
 }
 
 impl<'t> TreeBuilder<'t> {
@@ -41,20 +41,21 @@ impl<'t> TreeBuilder<'t> {
         self.parents.push((kind, self.children.len()));
     }
 
-    pub(crate) fn token(&mut self, kind: SyntaxKind, text: &'t str) {
-        let token = match text.as_bytes() {
-            &[b] if b < 128 => {
-                self.single[b as usize].get_or_insert_with(|| GreenToken::new(kind.into(), text)).clone()
-            }
+    /// Appends the token `text[range]`. Interning reads its bytes (no UTF-8
+    /// boundary checks on the hot path); the text is sliced only for a new token.
+    pub(crate) fn token(&mut self, kind: SyntaxKind, text: &'t str, range: std::ops::Range<usize>) {
+        let new = || GreenToken::new(kind.into(), &text[range.clone()]);
+        let token = match &text.as_bytes()[range.clone()] {
+            &[b] if b < 128 => self.single[b as usize].get_or_insert_with(new).clone(),
             short @ [_, _, ..] if short.len() < 8 => {
                 // The bytes, and the length in the last byte: distinct texts, distinct keys.
                 let mut key = [0u8; 8];
                 key[..short.len()].copy_from_slice(short);
                 key[7] = short.len() as u8;
                 let key = u64::from_le_bytes(key);
-                self.short.entry(key).or_insert_with(|| GreenToken::new(kind.into(), text)).clone()
+                self.short.entry(key).or_insert_with(new).clone()
             }
-            _ => self.long.entry(text).or_insert_with(|| GreenToken::new(kind.into(), text)).clone(),
+            long => self.long.entry(long).or_insert_with(new).clone(),
         };
         debug_assert_eq!(token.kind(), kind.into(), "a token's kind follows from its text");
         self.children.push(NodeOrToken::Token(token));

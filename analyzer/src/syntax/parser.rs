@@ -169,6 +169,10 @@ impl<'t> Parser<'t> {
         TextRange::new(self.offsets[i].into(), self.offsets[i + 1].into())
     }
 
+    fn span(&self, i: usize) -> std::ops::Range<usize> {
+        self.offsets[i] as usize..self.offsets[i + 1] as usize
+    }
+
     fn token_text(&self, i: usize) -> &'t str {
         &self.text[self.offsets[i] as usize..self.offsets[i + 1] as usize]
     }
@@ -179,8 +183,7 @@ impl<'t> Parser<'t> {
 
     fn bump(&mut self) {
         let kind = self.kinds[self.pos];
-        let text = self.token_text(self.pos);
-        self.builder.token(kind, text);
+        self.builder.token(kind, self.text, self.span(self.pos));
         self.pos += 1;
     }
 
@@ -392,13 +395,13 @@ impl<'t> Parser<'t> {
             match kind {
                 SyntaxKind::LParen => {
                     builder.start_node(SyntaxKind::List);
-                    builder.token(kind, self.token_text(i));
+                    builder.token(kind, self.text, self.span(i));
                 }
                 SyntaxKind::RParen => {
-                    builder.token(kind, self.token_text(i));
+                    builder.token(kind, self.text, self.span(i));
                     builder.finish_node();
                 }
-                _ => builder.token(kind, self.token_text(i)),
+                _ => builder.token(kind, self.text, self.span(i)),
             }
         }
         builder.into_children()
