@@ -11,6 +11,7 @@ pub mod ide;
 pub mod model;
 pub mod semantics;
 pub mod syntax;
+pub mod verify;
 
 pub use db::SourceFile;
 pub use diagnostic::{Code, Diagnostic, Fix, Related, Severity, codes};

@@ -1,0 +1,405 @@
+//! The lifted STRIPS view of actions, tasks and methods that model verification
+//! reasons on (Definitions 2, 3 and 6 of the HiPOP paper): preconditions, add and
+//! delete lists, equality constraints, a duration, conflicts, and subtasks.
+//!
+//! Durative actions are flattened the way the paper's definitions read them:
+//! `Pre` is every condition (`at start`, `over all`, `at end`), `Add` and `Del`
+//! every effect of either end. What does not fit that view (disjunctions,
+//! quantifiers, conditional or numeric effects, object-fluent terms) is listed
+//! in [`Operator::unsupported`], so that each check can decide whether its
+//! conclusion still holds; numeric conditions are kept apart because grounding
+//! can ignore them safely (they only restrict).
+//!
+//! Spans are relative to the item, like the model's.
+
+use rowan::TextRange;
+
+use crate::db::{Db, Item, Section, lower_item};
+use crate::model::{
+    Action, ActionKind, Atom, CmpOp, Effect, Gd, ItemData, Method, NumExpr, Str, Task, Term, Typed,
+};
+use crate::semantics::symbols::type_set;
+
+/// A term of a lifted atom.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum LTerm {
+    /// The operator's (or method's) parameter at this index.
+    Param(u32),
+    /// A constant, by key.
+    Const(Str),
+    /// A variable that is not a parameter: a wildcard in `:conflicts`, a
+    /// quantified variable in a `forall` effect, or a placeholder for a term
+    /// hipop cannot name (an object fluent).
+    Free(Str),
+}
+
+/// `(pred args…)` over [`LTerm`]s.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct LAtom {
+    pub pred: Str,
+    pub args: Vec<LTerm>,
+    pub span: TextRange,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Param {
+    pub name: Str,
+    /// The alternatives of its type (`either`), `object` when untyped.
+    pub types: Vec<Str>,
+    pub span: TextRange,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum OperatorKind {
+    Action,
+    Durative,
+    /// A HiPOP abstract action (an HDDL task, possibly with its own condition,
+    /// effect, duration and conflicts).
+    Task,
+}
+
+/// How long an operator takes.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Duration {
+    /// Instantaneous (`:action`) or not given (a task without `:duration`).
+    None,
+    /// `(= ?duration e)`.
+    Exact(NumExpr),
+    /// Only bounds (`(<= ?duration e)`, …): no single value.
+    Bounded(TextRange),
+}
+
+/// A construct outside the STRIPS view, where it is.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Unsupported {
+    pub span: TextRange,
+    pub what: &'static str,
+}
+
+/// A conditions list: positive and negative atoms, (in)equalities.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
+pub struct Conditions {
+    pub pos: Vec<LAtom>,
+    pub neg: Vec<LAtom>,
+    pub eq: Vec<(LTerm, LTerm)>,
+    pub neq: Vec<(LTerm, LTerm)>,
+    /// Numeric comparisons (ignored by grounding: they only restrict).
+    pub numeric: Vec<TextRange>,
+}
+
+/// An action or task as (name, Pre, Add, Del, dur, 𝒞).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Operator {
+    pub kind: OperatorKind,
+    pub name: Str,
+    pub name_span: TextRange,
+    pub params: Vec<Param>,
+    pub pre: Conditions,
+    pub add: Vec<LAtom>,
+    pub del: Vec<LAtom>,
+    pub duration: Duration,
+    /// `:conflicts` of a task; variables that are not parameters are [`LTerm::Free`].
+    pub conflicts: Vec<LAtom>,
+    pub unsupported: Vec<Unsupported>,
+}
+
+/// A subtask of a method, over the method's parameters.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct LSubtask {
+    pub id: Option<Str>,
+    pub name: Str,
+    pub args: Vec<LTerm>,
+    pub span: TextRange,
+}
+
+/// A method: the task it refines (over the method's parameters), its
+/// precondition and its subtasks.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct MethodSchema {
+    pub name: Str,
+    pub name_span: TextRange,
+    pub params: Vec<Param>,
+    /// The task refined and its arguments.
+    pub task: Option<(Str, Vec<LTerm>, TextRange)>,
+    pub pre: Conditions,
+    pub subtasks: Vec<LSubtask>,
+    pub unsupported: Vec<Unsupported>,
+}
+
+/// The lifted operator of an action or task item.
+#[salsa::tracked(returns(ref))]
+pub fn operator<'db>(db: &'db dyn Db, item: Item<'db>) -> Option<Operator> {
+    if !matches!(item.section(db), Section::Action | Section::Task) {
+        return None;
+    }
+    match &lower_item(db, item).data {
+        ItemData::Action(a) => Some(action_operator(a)),
+        ItemData::Task(t) => Some(task_operator(t)),
+        _ => None,
+    }
+}
+
+/// The lifted schema of a method item.
+#[salsa::tracked(returns(ref))]
+pub fn method_schema<'db>(db: &'db dyn Db, item: Item<'db>) -> Option<MethodSchema> {
+    if item.section(db) != Section::Method {
+        return None;
+    }
+    match &lower_item(db, item).data {
+        ItemData::Method(m) => Some(method(m)),
+        _ => None,
+    }
+}
+
+/// Translates terms and formulas against a parameter list.
+struct Scope<'a> {
+    params: &'a [Param],
+    unsupported: Vec<Unsupported>,
+}
+
+impl Scope<'_> {
+    fn term(&mut self, t: &Term) -> LTerm {
+        match t {
+            Term::Var(n) => match self.params.iter().position(|p| p.name == n.key) {
+                Some(i) => LTerm::Param(i as u32),
+                None => LTerm::Free(n.key.clone()),
+            },
+            Term::Const(n) => LTerm::Const(n.key.clone()),
+            Term::Func(f) => {
+                self.unsupported.push(Unsupported { span: f.span, what: "an object-fluent term" });
+                LTerm::Free(format!("({})", f.func.key).into())
+            }
+        }
+    }
+
+    fn atom(&mut self, a: &Atom) -> LAtom {
+        LAtom { pred: a.pred.key.clone(), args: a.args.iter().map(|t| self.term(t)).collect(), span: a.span }
+    }
+
+    fn unsupported(&mut self, span: TextRange, what: &'static str) {
+        self.unsupported.push(Unsupported { span, what });
+    }
+
+    /// Adds a condition to `out`; `positive` is false under a `not`.
+    fn condition(&mut self, gd: &Gd, positive: bool, out: &mut Conditions) {
+        match gd {
+            Gd::Atom(a) => {
+                let a = self.atom(a);
+                if positive { out.pos.push(a) } else { out.neg.push(a) }
+            }
+            Gd::Equal(x, y, _) => {
+                let pair = (self.term(x), self.term(y));
+                if positive { out.eq.push(pair) } else { out.neq.push(pair) }
+            }
+            Gd::Not(g, _) => self.condition(g, !positive, out),
+            Gd::And(gs, span) => {
+                if !positive && gs.len() > 1 {
+                    self.unsupported(*span, "a negated conjunction (a disjunction)");
+                }
+                for g in gs {
+                    self.condition(g, positive, out);
+                }
+            }
+            Gd::Timed(_, g, _) => self.condition(g, positive, out),
+            Gd::Compare(_, _, _, span) => out.numeric.push(*span),
+            Gd::Or(_, span) | Gd::Imply(_, _, span) => self.unsupported(*span, "a disjunctive condition"),
+            Gd::Forall(_, _, span) | Gd::Exists(_, _, span) => {
+                self.unsupported(*span, "a quantified condition")
+            }
+            Gd::Preference(_, _, span) => self.unsupported(*span, "a preference"),
+            Gd::Modal(_, _, _, span) => self.unsupported(*span, "a trajectory constraint"),
+            Gd::Order(o) => self.unsupported(o.span, "an ordering constraint"),
+            Gd::Sortof(_, _, span) => self.unsupported(*span, "a `sortof` constraint"),
+        }
+    }
+
+    fn effect(&mut self, e: &Effect, add: &mut Vec<LAtom>, del: &mut Vec<LAtom>) {
+        match e {
+            Effect::Add(a) => add.push(self.atom(a)),
+            Effect::Del(a, _) => del.push(self.atom(a)),
+            Effect::And(es, _) => {
+                for e in es {
+                    self.effect(e, add, del);
+                }
+            }
+            Effect::Timed(_, e, _) => self.effect(e, add, del),
+            Effect::Forall(_, e, span) => {
+                // Quantified variables are not parameters: they become free terms.
+                self.unsupported(*span, "a universally quantified effect");
+                self.effect(e, add, del);
+            }
+            Effect::When(_, e, span) => {
+                // What it may add or delete still counts (conflicts, reachability).
+                self.unsupported(*span, "a conditional effect");
+                self.effect(e, add, del);
+            }
+            Effect::Numeric(_, _, _, span) => self.unsupported(*span, "a numeric effect"),
+        }
+    }
+}
+
+fn params(typed: &[Typed]) -> Vec<Param> {
+    typed
+        .iter()
+        .map(|t| Param { name: t.name.key.clone(), types: type_set(&t.ty), span: t.name.span })
+        .collect()
+}
+
+fn duration(gd: Option<&Gd>) -> Duration {
+    match gd {
+        None => Duration::None,
+        Some(Gd::Compare(CmpOp::Eq, NumExpr::Duration(_), e, _) | Gd::Compare(CmpOp::Eq, e, NumExpr::Duration(_), _)) => {
+            Duration::Exact(e.clone())
+        }
+        Some(Gd::And(gs, _)) if gs.len() == 1 => duration(gs.first()),
+        Some(other) => Duration::Bounded(gd_span(other)),
+    }
+}
+
+fn gd_span(gd: &Gd) -> TextRange {
+    match gd {
+        Gd::Atom(a) => a.span,
+        Gd::Order(o) => o.span,
+        Gd::Equal(_, _, s)
+        | Gd::Compare(_, _, _, s)
+        | Gd::Not(_, s)
+        | Gd::And(_, s)
+        | Gd::Or(_, s)
+        | Gd::Imply(_, _, s)
+        | Gd::Forall(_, _, s)
+        | Gd::Exists(_, _, s)
+        | Gd::Timed(_, _, s)
+        | Gd::Preference(_, _, s)
+        | Gd::Modal(_, _, _, s)
+        | Gd::Sortof(_, _, s) => *s,
+    }
+}
+
+fn action_operator(a: &Action) -> Operator {
+    let params = params(&a.params);
+    let mut scope = Scope { params: &params, unsupported: Vec::new() };
+    let mut pre = Conditions::default();
+    if let Some(gd) = &a.precondition {
+        scope.condition(gd, true, &mut pre);
+    }
+    let (mut add, mut del) = (Vec::new(), Vec::new());
+    if let Some(e) = &a.effect {
+        scope.effect(e, &mut add, &mut del);
+    }
+    let unsupported = scope.unsupported;
+    Operator {
+        kind: if a.kind == ActionKind::Action { OperatorKind::Action } else { OperatorKind::Durative },
+        name: a.name.key.clone(),
+        name_span: a.name.span,
+        duration: duration(a.duration.as_ref()),
+        params,
+        pre,
+        add,
+        del,
+        conflicts: Vec::new(),
+        unsupported,
+    }
+}
+
+fn task_operator(t: &Task) -> Operator {
+    let params = params(&t.params);
+    let mut scope = Scope { params: &params, unsupported: Vec::new() };
+    let mut pre = Conditions::default();
+    if let Some(gd) = &t.precondition {
+        scope.condition(gd, true, &mut pre);
+    }
+    let (mut add, mut del) = (Vec::new(), Vec::new());
+    if let Some(e) = &t.effect {
+        scope.effect(e, &mut add, &mut del);
+    }
+    let conflicts = t.conflicts.iter().map(|a| scope.atom(a)).collect();
+    let unsupported = scope.unsupported;
+    Operator {
+        kind: OperatorKind::Task,
+        name: t.name.key.clone(),
+        name_span: t.name.span,
+        duration: duration(t.duration.as_ref()),
+        params,
+        pre,
+        add,
+        del,
+        conflicts,
+        unsupported,
+    }
+}
+
+fn method(m: &Method) -> MethodSchema {
+    let params = params(&m.params);
+    let mut scope = Scope { params: &params, unsupported: Vec::new() };
+    let mut pre = Conditions::default();
+    if let Some(gd) = &m.precondition {
+        scope.condition(gd, true, &mut pre);
+    }
+    let task = m.task.as_ref().map(|c| (c.name.key.clone(), c.args.iter().map(|a| scope.term(a)).collect(), c.span));
+    let subtasks = m
+        .network
+        .subtasks
+        .iter()
+        .map(|s| LSubtask {
+            id: s.id.as_ref().map(|i| i.key.clone()),
+            name: s.call.name.key.clone(),
+            args: s.call.args.iter().map(|a| scope.term(a)).collect(),
+            span: s.call.span,
+        })
+        .collect();
+    let unsupported = scope.unsupported;
+    MethodSchema { name: m.name.key.clone(), name_span: m.name.span, params, task, pre, subtasks, unsupported }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::AnalysisHost;
+
+    fn operators(text: &str) -> Vec<Operator> {
+        let mut host = AnalysisHost::new();
+        let f = host.set_file_text("d.pddl", text);
+        let db = host.db();
+        let units = crate::db::file_units(db, f);
+        units.iter().flat_map(|u| u.items(db).iter().filter_map(|&i| operator(db, i).clone())).collect()
+    }
+
+    #[test]
+    fn durative_action_is_flattened() {
+        let ops = operators(
+            "(define (domain d) (:predicates (at ?r ?w) (adj ?a ?b))
+              (:durative-action move :parameters (?r ?a ?b) :duration (= ?duration 3)
+               :condition (and (at start (at ?r ?a)) (over all (adj ?a ?b)) (over all (not (= ?a ?b))))
+               :effect (and (at start (not (at ?r ?a))) (at end (at ?r ?b)))))",
+        );
+        let m = &ops[0];
+        assert_eq!(m.kind, OperatorKind::Durative);
+        assert_eq!(m.pre.pos.len(), 2);
+        assert_eq!(m.pre.neq, vec![(LTerm::Param(1), LTerm::Param(2))]);
+        assert_eq!(m.add[0].args, vec![LTerm::Param(0), LTerm::Param(2)]);
+        assert_eq!(m.del[0].args, vec![LTerm::Param(0), LTerm::Param(1)]);
+        assert!(matches!(m.duration, Duration::Exact(_)));
+        assert!(m.unsupported.is_empty());
+    }
+
+    #[test]
+    fn conflict_wildcards_are_free() {
+        let ops = operators(
+            "(define (domain d) (:predicates (at ?r ?w))
+              (:task patrol :parameters (?r) :conflicts (and (at ?r ?w))))",
+        );
+        assert_eq!(ops[0].conflicts[0].args, vec![LTerm::Param(0), LTerm::Free("?w".into())]);
+    }
+
+    #[test]
+    fn unsupported_constructs_are_listed() {
+        let ops = operators(
+            "(define (domain d) (:predicates (p ?x) (q))
+              (:action a :parameters () :precondition (or (q) (q))
+               :effect (forall (?x) (when (q) (not (p ?x))))))",
+        );
+        let what: Vec<&str> = ops[0].unsupported.iter().map(|u| u.what).collect();
+        assert_eq!(what, ["a disjunctive condition", "a universally quantified effect", "a conditional effect"]);
+        assert_eq!(ops[0].del[0].args, vec![LTerm::Free("?x".into())]);
+    }
+}
