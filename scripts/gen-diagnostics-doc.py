@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""Regenerates docs/diagnostics.md from docs/src/diagnostics.template.md, the
-registry in analyzer/src/diagnostic.rs and the real output of `hipop check` on
-each fixture of samples/broken, so the examples never drift from the code.
+"""Regenerates docs/diagnostics.md and docs/lints.md from their templates in
+docs/src/, the registry in analyzer/src/diagnostic.rs and the real output of
+`hipop check` on each fixture of samples/broken, so the examples never drift
+from the code. Codes E03xx/W03xx/I03xx (model verification) are documented in
+lints.md, the others in diagnostics.md; every code has a section in one.
 
     python3 scripts/gen-diagnostics-doc.py          # rewrite the document
     python3 scripts/gen-diagnostics-doc.py --check  # fail if it is out of date
@@ -11,13 +13,24 @@ import os, re, subprocess, sys
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 os.chdir(root)
 tpl = open('docs/src/diagnostics.template.md').read()
+lints_tpl = open('docs/src/lints.template.md').read()
 reg = open('analyzer/src/diagnostic.rs').read()
 rows = []
+codes = []
+def is_lint(cid):
+    return cid[1:3] == '03'
 for m in re.finditer(r'^\s*([A-Z_]+) = "(\w+)" "([\w-]+)" (\w+) "(.*)";\s*$', reg, re.M):
     _, cid, name, sev, summary = m.groups()
-    rows.append(f'| [{cid}](#{cid.lower()}-{name}) | `{name}` | {sev.lower()} | {summary} |')
-assert rows, 'no code found in the registry' 
+    codes.append((cid, name))
+    page = 'lints.md' if is_lint(cid) else ''
+    rows.append(f'| [{cid}]({page}#{cid.lower()}-{name}) | `{name}` | {sev.lower()} | {summary} |')
+assert rows, 'no code found in the registry'
 tpl = tpl.replace('@@TABLE@@', '\n'.join(rows))
+lints_tpl = lints_tpl.replace('@@TABLE@@', '\n'.join(r.replace('](lints.md#', '](#') for r in rows if is_lint(r[3:8])))
+for cid, name in codes:
+    doc = lints_tpl if is_lint(cid) else tpl
+    assert f'### {cid} {name}' in doc, f'code {cid} {name} has no `### {cid} {name}` section in its template'
+
 features = [
  ('typed declarations (`- type`, `(:types …)`)', ':typing', ':adl'),
  ('a negative condition `(not …)` in a precondition or goal', ':negative-preconditions', ':adl'),
@@ -61,12 +74,17 @@ def fixture(name):
     out.append(f'`hipop check {path} --color never` prints (exit status {r.returncode}):\n')
     out.append(f'```text\n{r.stderr.rstrip()}\n```')
     return '\n'.join(out)
-tpl = re.sub(r'@@FIXTURE (\S+)@@', lambda m: fixture(m.group(1)), tpl)
-assert '@@' not in tpl
+stale = []
+for out, text in [('docs/diagnostics.md', tpl), ('docs/lints.md', lints_tpl)]:
+    text = re.sub(r'@@FIXTURE (\S+)@@', lambda m: fixture(m.group(1)), text)
+    assert '@@' not in text, out
+    if '--check' in sys.argv:
+        if not os.path.exists(out) or open(out).read() != text:
+            stale.append(out)
+    else:
+        open(out, 'w').write(text)
+        print('written', out, len(text.split('\n')), 'lines')
+if stale:
+    sys.exit(f'{", ".join(stale)} out of date: run python3 scripts/gen-diagnostics-doc.py')
 if '--check' in sys.argv:
-    if open('docs/diagnostics.md').read() != tpl:
-        sys.exit('docs/diagnostics.md is out of date: run python3 scripts/gen-diagnostics-doc.py')
-    print('docs/diagnostics.md is up to date')
-else:
-    open('docs/diagnostics.md', 'w').write(tpl)
-    print('written', len(tpl.split('\n')), 'lines')
+    print('docs/diagnostics.md and docs/lints.md are up to date')

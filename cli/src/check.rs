@@ -10,6 +10,8 @@ pub struct Options {
     pub format: Format,
     pub deny_warnings: bool,
     pub color: ColorWhen,
+    /// Codes silenced for this run.
+    pub allow: Vec<&'static hipop_analyzer::Code>,
 }
 
 /// Checks the files and prints the diagnostics; returns the exit status.
@@ -28,7 +30,7 @@ pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
     let mut diagnostics: Vec<Diagnostic> = Vec::new();
     for &f in &files {
         match analysis.diagnostics(f) {
-            Ok(d) => diagnostics.extend(d),
+            Ok(d) => diagnostics.extend(d.into_iter().filter(|d| !options.allow.contains(&d.code))),
             // Nothing writes to the database while the CLI reads it, so this
             // cannot happen; if it ever did, say so rather than print half a result.
             Err(_) => {

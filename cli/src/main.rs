@@ -44,6 +44,11 @@ struct CheckArgs {
     /// Treat warnings as errors for the exit status.
     #[arg(long, value_enum)]
     deny: Option<Deny>,
+    /// Silence a diagnostic code for this run, by id (`W0310`) or name
+    /// (`triangle-inequality`); repeatable. In a file, `; hipop-allow: CODE`
+    /// silences one occurrence (see docs/lints.md).
+    #[arg(long, value_name = "CODE", value_parser = parse_code)]
+    allow: Vec<&'static hipop_analyzer::Code>,
     /// When to use colours in human output.
     #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
     color: ColorWhen,
@@ -74,6 +79,15 @@ pub enum ColorWhen {
     Never,
 }
 
+/// A code of the registry, by id or name.
+fn parse_code(s: &str) -> Result<&'static hipop_analyzer::Code, String> {
+    hipop_analyzer::codes::ALL
+        .iter()
+        .copied()
+        .find(|c| c.id.eq_ignore_ascii_case(s) || c.name.eq_ignore_ascii_case(s))
+        .ok_or_else(|| format!("`{s}` is not a diagnostic code (see docs/diagnostics.md and docs/lints.md)"))
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
@@ -82,6 +96,7 @@ fn main() -> ExitCode {
                 format: args.format,
                 deny_warnings: args.deny == Some(Deny::Warnings),
                 color: args.color,
+                allow: args.allow,
             };
             ExitCode::from(check::run(&args.paths, &options))
         }

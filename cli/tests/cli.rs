@@ -147,6 +147,40 @@ fn deny_warnings_turns_warnings_into_failure() {
 }
 
 #[test]
+fn allow_silences_a_code_by_id_or_name() {
+    for code in ["W0201", "unused-declaration"] {
+        let o = hipop(&["check", "--deny", "warnings", "--allow", code, WARNING_ONLY]);
+        assert_no_panic(&o);
+        assert_eq!(status(&o), 0, "{code}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("W0201"), "{}", stderr(&o));
+    }
+    // Other codes are still reported.
+    let o = hipop(&["check", "--allow", "W0201", E0102]);
+    assert_eq!(status(&o), 1);
+    let o = hipop(&["check", "--allow", "W9999", E0102]);
+    assert_eq!(status(&o), 2, "an unknown code is a usage error");
+    assert!(stderr(&o).contains("`W9999` is not a diagnostic code"), "{}", stderr(&o));
+}
+
+#[test]
+fn allow_comments_silence_an_occurrence_or_a_file() {
+    let dir = std::env::temp_dir().join(format!("hipop-allow-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let original = std::fs::read_to_string(workspace_root().join(WARNING_ONLY)).unwrap();
+    let path = dir.join("d.pddl");
+    let check = |text: &str| {
+        std::fs::write(&path, text).unwrap();
+        let o = hipop(&["check", "--deny", "warnings", path.to_str().unwrap()]);
+        assert_no_panic(&o);
+        status(&o)
+    };
+    assert_eq!(check(&original), 1);
+    assert_eq!(check(&format!("{original}\n; hipop-allow-file: unused-declaration\n")), 0);
+    assert_eq!(check(&format!("{original}\n; hipop-allow-file: W0202\n")), 1, "another code");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn nonexistent_path_is_a_usage_error() {
     let o = hipop(&["check", "samples/no-such-mission.pddl"]);
     assert_no_panic(&o);

@@ -3,6 +3,7 @@
 
 pub mod check;
 pub mod resolve;
+mod suppress;
 pub mod symbols;
 
 use crate::model::Str;
@@ -24,9 +25,20 @@ pub fn file_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
     let mut out = file_level_diagnostics(db, file).clone();
     for &unit in file_units(db, file) {
         out.extend(unit_diagnostics(db, unit).iter().cloned());
+        // Model verification: a domain's own lints, and those its problems
+        // (open or in the workspace) find in it; a problem's lints.
+        let lints = crate::verify::domain_lints(db, unit).iter();
+        let problems: &[Unit<'_>] = match unit.kind(db) {
+            UnitKind::Domain => problems_of(db, unit),
+            UnitKind::Problem => std::slice::from_ref(&unit),
+            UnitKind::Unknown => &[],
+        };
+        let lints = lints.chain(problems.iter().flat_map(|&p| crate::verify::problem_lints(db, p)));
+        out.extend(lints.map(|l| l.to_diagnostic(db)).filter(|d| d.file == file));
     }
     out.sort_by_key(|d| (d.range.start(), d.range.end(), d.code.id));
     out.dedup();
+    suppress::apply(file.text(db), &mut out);
     out
 }
 
