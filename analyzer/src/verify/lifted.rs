@@ -248,9 +248,10 @@ fn params(typed: &[Typed]) -> Vec<Param> {
 fn duration(gd: Option<&Gd>) -> Duration {
     match gd {
         None => Duration::None,
-        Some(Gd::Compare(CmpOp::Eq, NumExpr::Duration(_), e, _) | Gd::Compare(CmpOp::Eq, e, NumExpr::Duration(_), _)) => {
-            Duration::Exact(e.clone())
-        }
+        Some(
+            Gd::Compare(CmpOp::Eq, NumExpr::Duration(_), e, _)
+            | Gd::Compare(CmpOp::Eq, e, NumExpr::Duration(_), _),
+        ) => Duration::Exact(e.clone()),
         Some(Gd::And(gs, _)) if gs.len() == 1 => duration(gs.first()),
         Some(other) => Duration::Bounded(gd_span(other)),
     }
@@ -335,7 +336,8 @@ fn method(m: &Method) -> MethodSchema {
     if let Some(gd) = &m.precondition {
         scope.condition(gd, true, &mut pre);
     }
-    let task = m.task.as_ref().map(|c| (c.name.key.clone(), c.args.iter().map(|a| scope.term(a)).collect(), c.span));
+    let task =
+        m.task.as_ref().map(|c| (c.name.key.clone(), c.args.iter().map(|a| scope.term(a)).collect(), c.span));
     let subtasks = m
         .network
         .subtasks
@@ -348,7 +350,15 @@ fn method(m: &Method) -> MethodSchema {
         })
         .collect();
     let unsupported = scope.unsupported;
-    MethodSchema { name: m.name.key.clone(), name_span: m.name.span, params, task, pre, subtasks, unsupported }
+    MethodSchema {
+        name: m.name.key.clone(),
+        name_span: m.name.span,
+        params,
+        task,
+        pre,
+        subtasks,
+        unsupported,
+    }
 }
 
 #[cfg(test)]
@@ -399,7 +409,10 @@ mod tests {
                :effect (forall (?x) (when (q) (not (p ?x))))))",
         );
         let what: Vec<&str> = ops[0].unsupported.iter().map(|u| u.what).collect();
-        assert_eq!(what, ["a disjunctive condition", "a universally quantified effect", "a conditional effect"]);
+        assert_eq!(
+            what,
+            ["a disjunctive condition", "a universally quantified effect", "a conditional effect"]
+        );
         assert_eq!(ops[0].del[0].args, vec![LTerm::Free("?x".into())]);
     }
 }

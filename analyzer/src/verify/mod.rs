@@ -2,5 +2,107 @@
 //! can be trusted with it (sections 4.2 and 4.3 of the HiPOP paper).
 //!
 //! - [`lifted`]: the STRIPS view of actions, tasks and methods the checks share.
+//!
+//! Lints are found in two salsa queries: [`domain_lints`] (what a domain alone
+//! shows) and [`problem_lints`] (what needs a problem and its domain; they may
+//! point into the domain file, where the language server shows them once a
+//! problem of that domain is open). Both return [`Lint`]s located by item
+//! ([`Loc`]), so that typing elsewhere in a file does not re-run them; the
+//! cheap conversion to absolute [`Diagnostic`]s happens last.
+//!
+//! Problem lints run only when the problem and its domain have no errors: the
+//! model they reason on would not be the one the user wrote.
 
 pub mod lifted;
+
+use crate::db::{Db, Unit, UnitKind};
+use crate::diagnostic::{Code, Diagnostic, Fix, Related, Severity};
+use crate::semantics::symbols::Loc;
+
+/// A lint result, located in items.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, salsa::SalsaValue)]
+pub struct Lint<'db> {
+    pub code: &'static Code,
+    pub loc: Loc<'db>,
+    pub message: String,
+    pub related: Vec<(Loc<'db>, String)>,
+    pub fix: Option<LintFix<'db>>,
+}
+
+/// Replacements of spans of items.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, salsa::SalsaValue)]
+pub struct LintFix<'db> {
+    pub message: String,
+    pub edits: Vec<(Loc<'db>, String)>,
+}
+
+impl<'db> Lint<'db> {
+    pub fn new(code: &'static Code, loc: Loc<'db>, message: impl Into<String>) -> Self {
+        Lint { code, loc, message: message.into(), related: Vec::new(), fix: None }
+    }
+
+    pub fn related(mut self, loc: Loc<'db>, message: impl Into<String>) -> Self {
+        self.related.push((loc, message.into()));
+        self
+    }
+
+    /// The diagnostic in absolute ranges.
+    pub fn to_diagnostic(&self, db: &'db dyn Db) -> Diagnostic {
+        let abs = |loc: Loc<'db>| (loc.item.file(db), loc.span + loc.item.offset(db));
+        let (file, range) = abs(self.loc);
+        Diagnostic {
+            code: self.code,
+            severity: self.code.severity,
+            file,
+            range,
+            message: self.message.clone(),
+            related: self
+                .related
+                .iter()
+                .map(|(loc, message)| {
+                    let (file, range) = abs(*loc);
+                    Related { file, range, message: message.clone() }
+                })
+                .collect(),
+            fix: self.fix.as_ref().map(|f| Fix {
+                message: f.message.clone(),
+                edits: f
+                    .edits
+                    .iter()
+                    .map(|(loc, text)| {
+                        let (file, range) = abs(*loc);
+                        (file, range, text.clone())
+                    })
+                    .collect(),
+            }),
+        }
+    }
+}
+
+/// The lints of a domain alone.
+#[salsa::tracked(returns(ref))]
+pub fn domain_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
+    let out = Vec::new();
+    if unit.kind(db) != UnitKind::Domain {
+        return out;
+    }
+    out
+}
+
+/// The lints of a problem with its domain (some located in the domain).
+#[salsa::tracked(returns(ref))]
+pub fn problem_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
+    let out = Vec::new();
+    if unit.kind(db) != UnitKind::Problem || !model_is_clean(db, unit) {
+        return out;
+    }
+    out
+}
+
+/// Whether a problem and its domain are free of errors.
+fn model_is_clean(db: &dyn Db, problem: Unit<'_>) -> bool {
+    let Some(domain) = crate::semantics::check::domain_for(db, problem) else { return false };
+    let clean =
+        |u: Unit<'_>| crate::semantics::unit_diagnostics(db, u).iter().all(|d| d.severity != Severity::Error);
+    clean(domain) && clean(problem)
+}
