@@ -362,17 +362,24 @@ fn method(m: &Method) -> MethodSchema {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests_support {
     use super::*;
     use crate::AnalysisHost;
 
-    fn operators(text: &str) -> Vec<Operator> {
+    /// The operators of a domain text, in order.
+    pub(crate) fn operators(text: &str) -> Vec<Operator> {
         let mut host = AnalysisHost::new();
         let f = host.set_file_text("d.pddl", text);
         let db = host.db();
         let units = crate::db::file_units(db, f);
         units.iter().flat_map(|u| u.items(db).iter().filter_map(|&i| operator(db, i).clone())).collect()
     }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tests_support::operators;
+    use super::*;
 
     #[test]
     fn durative_action_is_flattened() {

@@ -2,6 +2,8 @@
 //! can be trusted with it (sections 4.2 and 4.3 of the HiPOP paper).
 //!
 //! - [`lifted`]: the STRIPS view of actions, tasks and methods the checks share.
+//! - [`geometry`]: candidate position families and the triangle inequality of
+//!   move durations, as pure functions.
 //!
 //! Lints are found in two salsa queries: [`domain_lints`] (what a domain alone
 //! shows) and [`problem_lints`] (what needs a problem and its domain; they may
@@ -13,6 +15,7 @@
 //! Problem lints run only when the problem and its domain have no errors: the
 //! model they reason on would not be the one the user wrote.
 
+pub mod geometry;
 pub mod lifted;
 
 use crate::db::{Db, Unit, UnitKind};
