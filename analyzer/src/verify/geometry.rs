@@ -111,7 +111,7 @@ mod tests {
         let dur: Vec<Option<f64>> = (0..n * n)
             .map(|i| {
                 let (a, b) = (pts[i / n], pts[i % n]);
-                Some(((a.0 - b.0) as f64).hypot(a.1 - b.1))
+                Some(f64::hypot(a.0 - b.0, a.1 - b.1))
             })
             .collect();
         assert_eq!(detours(n, &dur, 1e-9), vec![]);
