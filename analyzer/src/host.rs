@@ -164,22 +164,24 @@ impl Analysis {
         if threads < 2 || items < 2 || bytes < PARALLEL_FROM_BYTES {
             return Ok(());
         }
+        let share = |db: &RootDatabase, t: usize| {
+            let units = crate::db::file_units(db, file);
+            let all = units.iter().flat_map(|u| u.items(db).iter().copied());
+            for item in all.skip(t).step_by(threads) {
+                crate::semantics::check::check_item(db, item);
+            }
+        };
         std::thread::scope(|scope| {
-            for t in 0..threads {
+            for t in 1..threads {
                 let db = self.db.clone();
                 scope.spawn(move || {
                     // A cancelled warm-up is harmless: the caller's own query unwinds too.
-                    let _ = salsa::Cancelled::catch(AssertUnwindSafe(|| {
-                        let units = crate::db::file_units(&db, file);
-                        let all = units.iter().flat_map(|u| u.items(&db).iter().copied());
-                        for item in all.skip(t).step_by(threads) {
-                            crate::semantics::check::check_item(&db, item);
-                        }
-                    }));
+                    let _ = salsa::Cancelled::catch(AssertUnwindSafe(|| share(&db, t)));
                 });
             }
-        });
-        Ok(())
+            // This thread takes the first share.
+            self.with_db(|db| share(db, 0))
+        })
     }
 
     pub fn document_symbols(&self, file: SourceFile) -> Cancellable<Vec<crate::ide::DocumentSymbol>> {
