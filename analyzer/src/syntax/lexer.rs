@@ -77,12 +77,18 @@ fn lex_into(text: &str, base: u32, out: &mut Tokens) {
                 }
                 SyntaxKind::Whitespace
             }
-            _ => {
+            first => {
                 i += 1;
                 while i < bytes.len() && !ends_atom(bytes[i]) {
                     i += 1;
                 }
-                classify_atom(&text[start..i])
+                // Most atoms are names: only a digit, `-` or `.` can start a number.
+                match first {
+                    b'?' => SyntaxKind::Variable,
+                    b':' if i - start > 1 => SyntaxKind::Keyword,
+                    b'0'..=b'9' | b'-' | b'.' => classify_atom(&text[start..i]),
+                    _ => SyntaxKind::Symbol,
+                }
             }
         };
         out.kinds.push(kind);
@@ -193,6 +199,13 @@ mod tests {
         }
         assert!(text.len() > 1 << 20);
         assert_eq!(lex_parallel(&text), lex(&text));
+    }
+
+    #[test]
+    fn the_lexer_classifies_atoms_like_classify_atom() {
+        for atom in ["?x", ":k", ":", "?", "12", "-3.5", "-", ".", ".5", "1.2.3", "-x", "a1", "été", "+1", "#t"] {
+            assert_eq!(kinds(atom), vec![(classify_atom(atom), atom)], "{atom}");
+        }
     }
 
     #[test]
