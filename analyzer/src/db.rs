@@ -47,6 +47,27 @@ pub struct Workspace {
     pub files: Vec<SourceFile>,
 }
 
+/// User settings of the analysis (command-line options, editor settings).
+#[salsa::input(singleton, debug)]
+pub struct Settings {
+    /// How much slower than a detour a direct move may be before the triangle
+    /// inequality of move durations is reported (Definition 14, property 6),
+    /// in the unit of durations.
+    #[returns(copy)]
+    pub triangle_tolerance: f64,
+}
+
+impl Settings {
+    /// VAL's default tolerance between happenings: durations computed from
+    /// distances rounded to two decimals differ from the exact sums by that much.
+    pub const DEFAULT_TRIANGLE_TOLERANCE: f64 = 0.01;
+}
+
+/// The triangle tolerance in force.
+pub fn triangle_tolerance(db: &dyn Db) -> f64 {
+    Settings::try_get(db).map_or(Settings::DEFAULT_TRIANGLE_TOLERANCE, |s| s.triangle_tolerance(db))
+}
+
 /// Parses a file. Not compared for backdating: the tree changes whenever the text does.
 #[salsa::tracked(returns(ref), no_eq)]
 pub fn parse(db: &dyn Db, file: SourceFile) -> Parse {

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use rustc_hash::FxHashMap;
 use salsa::Setter;
 
-use crate::db::{ReparseHint, RootDatabase, SourceFile, Workspace, parse};
+use crate::db::{ReparseHint, RootDatabase, Settings, SourceFile, Workspace, parse};
 use crate::diagnostic::Diagnostic;
 use crate::syntax::{TextEdit, TextSize};
 
@@ -24,6 +24,7 @@ pub struct AnalysisHost {
     db: RootDatabase,
     files: FxHashMap<String, SourceFile>,
     workspace: Option<Workspace>,
+    settings: Option<Settings>,
 }
 
 impl AnalysisHost {
@@ -34,6 +35,23 @@ impl AnalysisHost {
     /// A host whose database reports salsa events (for incrementality tests).
     pub fn with_event_callback(callback: Box<dyn Fn(salsa::Event) + Send + Sync + 'static>) -> AnalysisHost {
         AnalysisHost { db: RootDatabase::with_event_callback(callback), ..AnalysisHost::default() }
+    }
+
+    /// Sets the tolerance of the triangle-inequality lint (W0310); negative
+    /// or non-finite values are replaced by the default.
+    pub fn set_triangle_tolerance(&mut self, tolerance: f64) {
+        let tolerance = if tolerance.is_finite() && tolerance >= 0.0 {
+            tolerance
+        } else {
+            Settings::DEFAULT_TRIANGLE_TOLERANCE
+        };
+        match self.settings {
+            Some(s) if s.triangle_tolerance(&self.db) != tolerance => {
+                s.set_triangle_tolerance(&mut self.db).to(tolerance);
+            }
+            Some(_) => {}
+            None => self.settings = Some(Settings::new(&self.db, tolerance)),
+        }
     }
 
     pub fn file(&self, path: &str) -> Option<SourceFile> {

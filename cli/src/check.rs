@@ -12,12 +12,14 @@ pub struct Options {
     pub color: ColorWhen,
     /// Codes silenced for this run.
     pub allow: Vec<&'static hipop_analyzer::Code>,
+    pub triangle_tolerance: f64,
 }
 
 /// Checks the files and prints the diagnostics; returns the exit status.
 pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
     let inputs = collect(paths);
     let mut host = AnalysisHost::new();
+    host.set_triangle_tolerance(options.triangle_tolerance);
     let mut io_errors = Vec::new();
     let mut files = Vec::new();
     for input in inputs {

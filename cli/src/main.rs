@@ -49,6 +49,10 @@ struct CheckArgs {
     /// silences one occurrence (see docs/lints.md).
     #[arg(long, value_name = "CODE", value_parser = parse_code)]
     allow: Vec<&'static hipop_analyzer::Code>,
+    /// How much slower than a detour through another position a direct move may
+    /// be before W0310 triangle-inequality is reported, in the unit of durations.
+    #[arg(long, value_name = "DURATION", default_value_t = 0.01, value_parser = parse_tolerance)]
+    triangle_tolerance: f64,
     /// When to use colours in human output.
     #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
     color: ColorWhen,
@@ -88,6 +92,13 @@ fn parse_code(s: &str) -> Result<&'static hipop_analyzer::Code, String> {
         .ok_or_else(|| format!("`{s}` is not a diagnostic code (see docs/diagnostics.md and docs/lints.md)"))
 }
 
+fn parse_tolerance(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(t) if t.is_finite() && t >= 0.0 => Ok(t),
+        _ => Err(format!("`{s}` is not a duration (a number, 0 or more)")),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
@@ -97,6 +108,7 @@ fn main() -> ExitCode {
                 deny_warnings: args.deny == Some(Deny::Warnings),
                 color: args.color,
                 allow: args.allow,
+                triangle_tolerance: args.triangle_tolerance,
             };
             ExitCode::from(check::run(&args.paths, &options))
         }
