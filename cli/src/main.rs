@@ -52,6 +52,11 @@ struct CheckArgs {
     /// When to use colours in human output.
     #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
     color: ColorWhen,
+    /// Apply the fixes of the diagnostics (the `help:` lines) to the files,
+    /// then check again and report what remains. Fixes that would overlap one
+    /// already applied are skipped (run again to apply them).
+    #[arg(long)]
+    fix: bool,
 }
 
 /// How diagnostics are printed.
@@ -97,6 +102,7 @@ fn main() -> ExitCode {
                 deny_warnings: args.deny == Some(Deny::Warnings),
                 color: args.color,
                 allow: args.allow,
+                fix: args.fix,
             };
             ExitCode::from(check::run(&args.paths, &options))
         }
