@@ -76,6 +76,11 @@ pub mod codes {
         DUPLICATE_TYPE = "W0204" "duplicate-type" Warning "a type is declared twice";
         DOMAIN_MISMATCH = "W0205" "domain-mismatch" Warning "a problem names a domain other than the one beside it";
         CONSTANT_FROM_PROBLEM = "W0206" "constant-from-problem" Warning "a domain uses a constant that only its problems declare";
+
+        UNCOVERED_CONFLICT = "E0301" "uncovered-conflict" Error "a literal that a method of a task may delete is not covered by the task's `:conflicts`";
+        UNUSED_CONFLICT = "W0302" "unused-conflict" Warning "a conflict atom that no method of the task can delete";
+        TASK_WITHOUT_METHODS = "E0303" "task-without-methods" Error "a task that the model uses has no method: it can never be refined";
+        UNUSED_TASK = "W0304" "unused-task" Warning "a task without methods that nothing uses";
     }
 }
 

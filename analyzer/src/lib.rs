@@ -6,6 +6,7 @@
 
 pub mod db;
 pub mod diagnostic;
+pub mod fix;
 mod host;
 pub mod ide;
 pub mod model;

@@ -26,6 +26,7 @@ const HEAD: &str = "(define (domain d)
   (:task work :parameters (?r - robot))
   (:durative-action step :parameters (?r - robot) :duration (= ?duration 1)
     :condition (at start (ready ?r)) :effect (at end (done ?r)))
+  (:method work-step :parameters (?r - robot) :task (work ?r) :subtasks (and (step ?r)))
 ";
 
 fn domain(rest: &str) -> String {

@@ -1,6 +1,7 @@
 //! `hipop check`.
 
-use hipop_analyzer::{AnalysisHost, Diagnostic, Severity};
+use hipop_analyzer::fix::{apply_edits, select_fixes};
+use hipop_analyzer::{AnalysisHost, Diagnostic, Fix, Severity, SourceFile, TextRange};
 
 use crate::inputs::{Input, collect};
 use crate::render::{Rendered, Sources};
@@ -13,10 +14,17 @@ pub struct Options {
     /// Codes silenced for this run.
     pub allow: Vec<&'static hipop_analyzer::Code>,
     pub triangle_tolerance: f64,
+    /// Apply the fixes of the diagnostics first, then check what remains.
+    pub fix: bool,
 }
 
 /// Checks the files and prints the diagnostics; returns the exit status.
 pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
+    if options.fix
+        && let Err(status) = fix(paths, options)
+    {
+        return status;
+    }
     let inputs = collect(paths);
     let mut host = AnalysisHost::new();
     host.set_triangle_tolerance(options.triangle_tolerance);
@@ -59,4 +67,77 @@ pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
     } else {
         0
     }
+}
+
+/// Applies every fix of the diagnostics of the files (those silenced by
+/// `--allow` excepted), at most one per overlapping text, writes the files
+/// that changed and says what was done. Unreadable inputs are left to the
+/// check that follows, which reports them.
+fn fix(paths: &[std::path::PathBuf], options: &Options) -> Result<(), u8> {
+    let mut host = AnalysisHost::new();
+    host.set_triangle_tolerance(options.triangle_tolerance);
+    let files: Vec<SourceFile> = collect(paths)
+        .into_iter()
+        .filter_map(|input| match input {
+            Input::File { path, text } => Some(host.set_file_text(&path, text)),
+            Input::Problem { .. } => None,
+        })
+        .collect();
+    let analysis = host.analysis();
+    let interrupted = |_| {
+        eprintln!("error: the analysis was interrupted; this is a bug in hipop, please report it");
+        2
+    };
+    let mut diagnostics: Vec<Diagnostic> = Vec::new();
+    for &f in &files {
+        diagnostics.extend(analysis.diagnostics(f).map_err(interrupted)?);
+    }
+    let fixes: Vec<&Fix> = diagnostics
+        .iter()
+        .filter(|d| !options.allow.contains(&d.code))
+        .filter_map(|d| d.fix.as_ref())
+        .collect();
+    if fixes.is_empty() {
+        eprintln!("nothing to fix");
+        return Ok(());
+    }
+    let (chosen, skipped) = select_fixes(&fixes);
+    let mut written = 0;
+    for &f in &files {
+        let edits: Vec<(TextRange, &str)> = chosen
+            .iter()
+            .flat_map(|&i| &fixes[i].edits)
+            .filter(|(file, _, _)| *file == f)
+            .map(|(_, range, text)| (*range, text.as_str()))
+            .collect();
+        if edits.is_empty() {
+            continue;
+        }
+        let path = analysis.file_path(f).map_err(interrupted)?;
+        let text = analysis.file_text(f).map_err(interrupted)?;
+        let Some(new) = apply_edits(&text, &edits) else {
+            eprintln!(
+                "error: the fixes of {path} do not apply to its text; this is a bug in hipop, please report it"
+            );
+            return Err(2);
+        };
+        if let Err(e) = std::fs::write(&path, new) {
+            eprintln!("error: {path}: cannot write the fixes: {e}");
+            return Err(2);
+        }
+        written += 1;
+    }
+    let plural = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    eprintln!(
+        "fixed {} in {}",
+        plural(chosen.len(), "diagnostic", "diagnostics"),
+        plural(written, "file", "files")
+    );
+    if !skipped.is_empty() {
+        eprintln!(
+            "skipped {} that would overlap another: run `hipop check --fix` again",
+            plural(skipped.len(), "fix", "fixes")
+        );
+    }
+    Ok(())
 }

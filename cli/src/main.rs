@@ -56,6 +56,11 @@ struct CheckArgs {
     /// When to use colours in human output.
     #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
     color: ColorWhen,
+    /// Apply the fixes of the diagnostics (the `help:` lines) to the files,
+    /// then check again and report what remains. Fixes that would overlap one
+    /// already applied are skipped (run again to apply them).
+    #[arg(long)]
+    fix: bool,
 }
 
 /// How diagnostics are printed.
@@ -109,6 +114,7 @@ fn main() -> ExitCode {
                 color: args.color,
                 allow: args.allow,
                 triangle_tolerance: args.triangle_tolerance,
+                fix: args.fix,
             };
             ExitCode::from(check::run(&args.paths, &options))
         }

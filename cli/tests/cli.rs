@@ -227,3 +227,114 @@ fn help_succeeds() {
     let out = stdout(&o);
     assert!(out.contains("--format") && out.contains("--deny"), "check --help lists its options:\n{out}");
 }
+
+/// A temporary folder removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        let dir = std::env::temp_dir().join(format!("hipop-cli-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("temp folder created");
+        TempDir(dir)
+    }
+
+    /// Copies a file of the workspace into the folder; returns its new path.
+    fn copy(&self, rel: &str) -> PathBuf {
+        let to = self.0.join(Path::new(rel).file_name().expect("a file name"));
+        std::fs::copy(workspace_root().join(rel), &to).expect("fixture copied");
+        to
+    }
+
+    fn path(&self) -> &str {
+        self.0.to_str().expect("UTF-8 temp path")
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+#[test]
+fn fix_applies_fixes_then_checks_again() {
+    let dir = TempDir::new("fix");
+    let conflicts = dir.copy("samples/broken/E0301-uncovered-conflict.hddl");
+    let typo = dir.copy("samples/broken/E0105-undefined-task.hddl");
+    let before = std::fs::read_to_string(&conflicts).unwrap();
+
+    let o = hipop(&["check", "--fix", dir.path(), "--color", "never"]);
+    assert_no_panic(&o);
+    let err = stderr(&o);
+    assert_eq!(status(&o), 0, "everything was fixed:\n{err}");
+    assert!(err.contains("fixed 2 diagnostics in 2 files"), "stderr:\n{err}");
+    assert!(err.contains("checked 2 files: 0 errors, 0 warnings"), "the check after the fixes:\n{err}");
+
+    // Only the `:conflicts` line changed, comments and layout kept.
+    let after = std::fs::read_to_string(&conflicts).unwrap();
+    assert_eq!(
+        after,
+        before.replace(":conflicts (and (at-r ?r ?home)))", ":conflicts (and (at-r ?r ?home) (at-r ?r ?w)))")
+    );
+    assert!(std::fs::read_to_string(&typo).unwrap().contains(":task (goto ?r ?to)"));
+
+    let again = hipop(&["check", "--fix", dir.path(), "--color", "never"]);
+    assert_eq!(status(&again), 0);
+    assert!(stderr(&again).contains("nothing to fix"), "stderr:\n{}", stderr(&again));
+}
+
+#[test]
+fn fix_leaves_what_it_cannot_fix_and_fails() {
+    let dir = TempDir::new("fix-remaining");
+    let cycle = dir.copy("samples/broken/E0113-ordering-cycle.hddl");
+    let before = std::fs::read_to_string(&cycle).unwrap();
+    let o = hipop(&["check", "--fix", dir.path(), "--color", "never"]);
+    assert_no_panic(&o);
+    let err = stderr(&o);
+    assert_eq!(status(&o), 1, "the error remains:\n{err}");
+    assert!(err.contains("nothing to fix") && err.contains("E0113"), "stderr:\n{err}");
+    assert_eq!(std::fs::read_to_string(&cycle).unwrap(), before, "the file is untouched");
+}
+
+#[test]
+fn fix_skips_overlapping_fixes() {
+    // Two literals to add to a single-atom `:conflicts`: both fixes wrap it
+    // into `(and …)`, so only the first is applied; a second run applies the other.
+    let dir = TempDir::new("fix-overlap");
+    let path = dir.0.join("d.hddl");
+    let domain = "; two uncovered literals
+(define (domain d)
+  (:requirements :hierarchy)
+  (:predicates (at ?r ?w) (busy ?r) (seen ?w))
+  (:action move :parameters (?r ?a ?b)
+    :precondition (and (at ?r ?a) (busy ?r) (seen ?a))
+    :effect (and (not (at ?r ?a)) (not (busy ?r)) (at ?r ?b) (seen ?b)))
+  (:task goto :parameters (?r ?to) :conflicts (seen ?to))
+  (:method m :parameters (?r ?from ?to) :task (goto ?r ?to)
+    :subtasks (and (move ?r ?from ?to))))
+";
+    std::fs::write(&path, domain).unwrap();
+    let run = || hipop(&["check", "--fix", dir.path(), "--color", "never"]);
+
+    let o = run();
+    assert_no_panic(&o);
+    let err = stderr(&o);
+    assert!(err.contains("fixed 1 diagnostic in 1 file"), "stderr:\n{err}");
+    assert!(err.contains("skipped 1 fix that would overlap another"), "stderr:\n{err}");
+    assert_eq!(status(&o), 1, "one E0301 remains:\n{err}");
+    assert!(err.contains("checked 1 file: 1 error, 1 warning"), "stderr:\n{err}");
+
+    let o = run();
+    let err = stderr(&o);
+    assert!(err.contains("fixed 1 diagnostic in 1 file"), "stderr:\n{err}");
+    assert!(!err.contains("skipped"), "stderr:\n{err}");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        text.contains(":conflicts (and (seen ?to) (at ?r ?from) (busy ?r))"),
+        "both literals added, one `and`:\n{text}"
+    );
+    // `(seen ?to)` is added by `move` but deleted by nothing: W0302 remains.
+    assert_eq!(status(&o), 0, "stderr:\n{err}");
+    assert!(err.contains("W0302"), "stderr:\n{err}");
+}

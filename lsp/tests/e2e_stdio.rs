@@ -243,6 +243,34 @@ fn quick_fix_and_related_information() {
     client.shutdown();
 }
 
+/// The fix of a domain lint (E0301: add the missing conflict) is a quick fix too.
+#[test]
+fn quick_fix_of_a_lint() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    let uri = file_uri(&fixture("blocks/unsaved-patrol.hddl"));
+    let text = "(define (domain patrol) (:requirements :hierarchy) (:predicates (at ?r ?w))
+  (:action move :parameters (?r ?a ?b) :precondition (at ?r ?a) :effect (and (not (at ?r ?a)) (at ?r ?b)))
+  (:task go :parameters (?r) :conflicts (and))
+  (:method m :parameters (?r ?a ?b) :task (go ?r) :subtasks (and (move ?r ?a ?b))))
+";
+    client.open(&uri, text);
+    let diags = client.diagnostics(&uri, Some(1));
+    let uncovered = find(&diags, "E0301");
+    assert_eq!(uncovered["range"], range(2, 29, 2, 39), "on `:conflicts`");
+    let actions = client.request(
+        "textDocument/codeAction",
+        json!({"textDocument": {"uri": uri}, "range": range(2, 31, 2, 31), "context": {"diagnostics": []}}),
+    );
+    let action = &actions[0];
+    assert_eq!(action["title"], "add `(at ?r ?a)` to the conflicts of `go`");
+    assert_eq!(
+        action["edit"]["changes"][&uri],
+        json!([{"range": range(2, 44, 2, 44), "newText": " (at ?r ?a)"}])
+    );
+    client.shutdown();
+}
+
 /// A copy of the `blocks` fixture in a fresh folder, to change on disk.
 fn scratch_copy(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("hipop-lsp-{name}-{}", std::process::id()));

@@ -219,7 +219,7 @@ impl<'a, F: FnMut(Occurrence<'a>)> V<'a, F> {
                 if let Some(e) = &t.effect {
                     self.effect(e);
                 }
-                t.conflicts.iter().for_each(|a| self.atom(a));
+                t.conflicts.iter().flat_map(|c| &c.atoms).for_each(|a| self.atom(a));
             }
             ItemData::Method(m) => {
                 self.put(RefKind::Method, &m.name, true);

@@ -6,7 +6,7 @@ mod lower;
 
 pub use lower::{Lowered, lower_chunk, lower_list};
 
-use rowan::TextRange;
+use rowan::{TextRange, TextSize};
 /// A short string stored inline (names are short): no allocation per name.
 pub type Str = compact_str::CompactString;
 
@@ -217,8 +217,37 @@ pub struct Task {
     pub duration: Option<Gd>,
     pub precondition: Option<Gd>,
     pub effect: Option<Effect>,
+    /// `:conflicts`, absent on a plain HDDL task (which is not a HiPOP
+    /// abstract action); `:conflicts ()` is present and empty.
+    pub conflicts: Option<Conflicts>,
+}
+
+/// The `:conflicts` of a task, with what an edit that adds atoms needs.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Conflicts {
     /// Atoms; variables that are not parameters are wildcards.
-    pub conflicts: Vec<Atom>,
+    pub atoms: Vec<Atom>,
+    /// The `:conflicts` keyword.
+    pub keyword: TextRange,
+    /// The formula after it.
+    pub span: TextRange,
+    pub form: ConflictsForm,
+}
+
+/// How a `:conflicts` formula is written: where a new atom can go without
+/// disturbing the user's layout and comments.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum ConflictsForm {
+    /// `(and …)`: a new atom is inserted at `at` (after the last element, or
+    /// before the `)` of an empty `(and)`), preceded by `sep` (a space, or a
+    /// line break and the indentation of the last element).
+    And { at: TextSize, sep: Str },
+    /// One atom, closed by its `)`: it is wrapped into an `(and …)`.
+    Atom,
+    /// `()`.
+    Empty,
+    /// Anything else (an unclosed list, a malformed atom): no edit is offered.
+    Other,
 }
 
 /// `(name args…)` naming a task or an action.

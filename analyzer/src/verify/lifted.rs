@@ -16,7 +16,8 @@ use rowan::TextRange;
 
 use crate::db::{Db, Item, Section, lower_item};
 use crate::model::{
-    Action, ActionKind, Atom, CmpOp, Effect, Gd, ItemData, Method, NumExpr, Str, Task, Term, Typed,
+    Action, ActionKind, Atom, CmpOp, ConflictsForm, Effect, Gd, ItemData, Method, NumExpr, Str, Task, Term,
+    Typed,
 };
 use crate::semantics::symbols::type_set;
 
@@ -98,9 +99,22 @@ pub struct Operator {
     pub add: Vec<LAtom>,
     pub del: Vec<LAtom>,
     pub duration: Duration,
-    /// `:conflicts` of a task; variables that are not parameters are [`LTerm::Free`].
-    pub conflicts: Vec<LAtom>,
+    /// `:conflicts` of a task, `None` when it has none (an action, or a plain
+    /// HDDL task, which is not a HiPOP abstract action).
+    pub conflicts: Option<LConflicts>,
     pub unsupported: Vec<Unsupported>,
+}
+
+/// A task's `:conflicts`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct LConflicts {
+    /// Variables that are not parameters are [`LTerm::Free`] (wildcards).
+    pub atoms: Vec<LAtom>,
+    /// The `:conflicts` keyword.
+    pub keyword: TextRange,
+    /// The formula after it.
+    pub span: TextRange,
+    pub form: ConflictsForm,
 }
 
 /// A subtask of a method, over the method's parameters.
@@ -297,7 +311,7 @@ fn action_operator(a: &Action) -> Operator {
         pre,
         add,
         del,
-        conflicts: Vec::new(),
+        conflicts: None,
         unsupported,
     }
 }
@@ -313,7 +327,12 @@ fn task_operator(t: &Task) -> Operator {
     if let Some(e) = &t.effect {
         scope.effect(e, &mut add, &mut del);
     }
-    let conflicts = t.conflicts.iter().map(|a| scope.atom(a)).collect();
+    let conflicts = t.conflicts.as_ref().map(|c| LConflicts {
+        atoms: c.atoms.iter().map(|a| scope.atom(a)).collect(),
+        keyword: c.keyword,
+        span: c.span,
+        form: c.form.clone(),
+    });
     let unsupported = scope.unsupported;
     Operator {
         kind: OperatorKind::Task,
@@ -405,7 +424,46 @@ mod tests {
             "(define (domain d) (:predicates (at ?r ?w))
               (:task patrol :parameters (?r) :conflicts (and (at ?r ?w))))",
         );
-        assert_eq!(ops[0].conflicts[0].args, vec![LTerm::Param(0), LTerm::Free("?w".into())]);
+        let conflicts = ops[0].conflicts.as_ref().expect("declared");
+        assert_eq!(conflicts.atoms[0].args, vec![LTerm::Param(0), LTerm::Free("?w".into())]);
+    }
+
+    #[test]
+    fn absent_and_empty_conflicts_differ() {
+        let ops = operators(
+            "(define (domain d) (:predicates (at ?r ?w))
+              (:task plain :parameters (?r))
+              (:task none :parameters (?r) :conflicts ()))",
+        );
+        assert_eq!(ops[0].conflicts, None);
+        let none = ops[1].conflicts.as_ref().expect("declared, empty");
+        assert!(none.atoms.is_empty());
+        assert_eq!(none.form, ConflictsForm::Empty);
+    }
+
+    #[test]
+    fn conflicts_form_says_where_atoms_go() {
+        let text = "(define (domain d) (:predicates (at ?r ?w) (p))
+              (:task one :parameters (?r) :conflicts (at ?r ?w))
+              (:task both :parameters (?r) :conflicts (and (p) (at ?r ?w)) )
+              (:task lines :parameters (?r) :conflicts (and
+                  (p) ; a comment
+                  (at ?r ?w)
+                ))
+              (:task nothing :parameters (?r) :conflicts (and)))";
+        let ops = operators(text);
+        let forms: Vec<&ConflictsForm> = ops.iter().map(|o| &o.conflicts.as_ref().unwrap().form).collect();
+        assert_eq!(forms[0], &ConflictsForm::Atom);
+        let ConflictsForm::And { at, sep } = forms[1] else { panic!("{:?}", forms[1]) };
+        assert_eq!(&**sep, " ");
+        let span = ops[1].conflicts.as_ref().unwrap().span;
+        // Offsets are item-relative: check the text right before the insertion point.
+        assert_eq!(u32::from(*at) - u32::from(span.start()), "(and (p) (at ?r ?w)".len() as u32);
+        let ConflictsForm::And { sep, .. } = forms[2] else { panic!("{:?}", forms[2]) };
+        assert_eq!(&**sep, "\n                  ");
+        let ConflictsForm::And { at, sep } = forms[3] else { panic!("{:?}", forms[3]) };
+        let span = ops[3].conflicts.as_ref().unwrap().span;
+        assert_eq!((u32::from(*at) - u32::from(span.start()), &**sep), (4, " "));
     }
 
     #[test]

@@ -4,6 +4,8 @@
 //! - [`lifted`]: the STRIPS view of actions, tasks and methods the checks share.
 //! - [`geometry`]: candidate position families and the triangle inequality of
 //!   move durations, as pure functions.
+//! - [`conflicts`]: conflicts of abstract actions (E0301, W0302) and tasks
+//!   without methods (E0303, W0304).
 //!
 //! Lints are found in two salsa queries: [`domain_lints`] (what a domain alone
 //! shows) and [`problem_lints`] (what needs a problem and its domain; they may
@@ -15,6 +17,7 @@
 //! Problem lints run only when the problem and its domain have no errors: the
 //! model they reason on would not be the one the user wrote.
 
+pub mod conflicts;
 pub mod geometry;
 pub mod lifted;
 
@@ -85,10 +88,12 @@ impl<'db> Lint<'db> {
 /// The lints of a domain alone.
 #[salsa::tracked(returns(ref))]
 pub fn domain_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
-    let out = Vec::new();
+    let mut out = Vec::new();
     if unit.kind(db) != UnitKind::Domain {
         return out;
     }
+    conflicts::conflict_lints(db, unit, &mut out);
+    conflicts::method_less_tasks(db, unit, &mut out);
     out
 }
 

@@ -11,7 +11,7 @@ mod network;
 
 use super::*;
 use crate::diagnostic::{LocalDiag, codes};
-use crate::syntax::{GAtom, GList, GSexp, SyntaxKind};
+use crate::syntax::{GAtom, GList, GSexp, Lang, SyntaxKind};
 
 /// The model of one item and what was wrong with its shape.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -438,9 +438,9 @@ impl Cx {
             duration: None,
             precondition: None,
             effect: None,
-            conflicts: Vec::new(),
+            conflicts: None,
         };
-        for (key, _, value) in self.fields(&rest[1..], allowed, "a task") {
+        for (key, keyword, value) in self.fields(&rest[1..], allowed, "a task") {
             let value = value.expect("fields have values");
             match key.as_str() {
                 ":parameters" => task.params = self.params(value),
@@ -448,21 +448,32 @@ impl Cx {
                 ":condition" | ":precondition" => task.precondition = Some(self.gd(value)),
                 ":effect" => task.effect = Some(self.effect(value)),
                 ":agent" => task.agent = self.agent(value),
-                ":conflicts" => task.conflicts = self.conflicts(value),
+                ":conflicts" => task.conflicts = Some(self.conflicts(keyword, value)),
                 _ => {}
             }
         }
         ItemData::Task(Box::new(task))
     }
 
-    fn conflicts(&mut self, e: &GSexp<'_>) -> Vec<Atom> {
-        match e {
+    fn conflicts(&mut self, keyword: TextRange, e: &GSexp<'_>) -> Conflicts {
+        let (atoms, form) = match e {
             GSexp::List(l) if l.head_is("and") => {
-                l.elements().skip(1).filter_map(|x| self.atom(&x)).collect()
+                let atoms = l.elements().skip(1).filter_map(|x| self.atom(&x)).collect();
+                (atoms, and_insertion(l))
             }
-            GSexp::List(l) if l.head().is_none() => Vec::new(),
-            other => self.atom(other).into_iter().collect(),
-        }
+            GSexp::List(l) if l.head().is_none() => {
+                (Vec::new(), if is_closed(l) { ConflictsForm::Empty } else { ConflictsForm::Other })
+            }
+            other => {
+                let atom = self.atom(other);
+                let form = match other {
+                    GSexp::List(l) if atom.is_some() && is_closed(l) => ConflictsForm::Atom,
+                    _ => ConflictsForm::Other,
+                };
+                (atom.into_iter().collect(), form)
+            }
+        };
+        Conflicts { atoms, keyword, span: e.range(), form }
     }
 
     fn method(&mut self, durative: bool, head: &GSexp<'_>, rest: &[GSexp<'_>]) -> ItemData {
@@ -589,5 +600,49 @@ impl Cx {
             }
             _ => self.atom_of(e, &inner).map(InitElement::Fact),
         }
+    }
+}
+
+/// Whether a list ends with its `)` (recovery leaves unclosed lists open).
+fn is_closed(l: &GList<'_>) -> bool {
+    let last = l.children().last();
+    matches!(last, Some((_, NodeOrToken::Token(t))) if <Lang as rowan::Language>::kind_from_raw(t.kind()) == SyntaxKind::RParen)
+}
+
+/// Where a new atom goes in `(and …)`: after the last element, on a line of
+/// its own when the last element is on one (with its indentation), so that
+/// an edit keeps the user's layout and leaves comments where they are.
+fn and_insertion(l: &GList<'_>) -> ConflictsForm {
+    if !is_closed(l) {
+        return ConflictsForm::Other;
+    }
+    let mut trivia = String::new();
+    let mut last: Option<(TextSize, String)> = None;
+    let mut close = None;
+    for (start, c) in l.children() {
+        match c {
+            NodeOrToken::Token(t) => match <Lang as rowan::Language>::kind_from_raw(t.kind()) {
+                SyntaxKind::Whitespace => trivia.push_str(t.text()),
+                SyntaxKind::Comment => trivia.clear(),
+                SyntaxKind::RParen => close = Some(start),
+                SyntaxKind::LParen => {}
+                _ => {
+                    last = Some((start + t.text_len(), std::mem::take(&mut trivia)));
+                }
+            },
+            NodeOrToken::Node(n) => last = Some((start + n.text_len(), std::mem::take(&mut trivia))),
+        }
+    }
+    let Some(close) = close else { return ConflictsForm::Other };
+    match last {
+        // `(and)`: the head is the last element.
+        Some((at, before)) if l.elements().count() > 1 => {
+            let sep = match before.rfind('\n') {
+                Some(i) => format!("\n{}", &before[i + 1..]),
+                None => " ".to_string(),
+            };
+            ConflictsForm::And { at, sep: sep.into() }
+        }
+        _ => ConflictsForm::And { at: close, sep: " ".into() },
     }
 }

@@ -324,7 +324,7 @@ impl<'a, 'db> Checker<'a, 'db> {
         if let Some(e) = &t.effect {
             self.effect(e);
         }
-        for c in &t.conflicts {
+        for c in t.conflicts.iter().flat_map(|c| &c.atoms) {
             self.atom(c, true);
         }
         self.durative = false;
