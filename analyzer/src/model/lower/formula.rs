@@ -3,7 +3,7 @@
 use rowan::TextRange;
 
 use super::network::is_ordering_shape;
-use super::{Cx, Elems, GSexp, SyntaxKind, atom_kind};
+use super::{Cx, GSexp, SyntaxKind, atom_kind, elements};
 use crate::model::*;
 
 impl Cx {
@@ -29,7 +29,7 @@ impl Cx {
             self.malformed(e, "expected an atom like `(p ?x)`");
             return None;
         };
-        let inner: Elems<'_> = l.elements().collect();
+        let inner = elements(l);
         self.atom_of(e, &inner)
     }
 
@@ -50,7 +50,10 @@ impl Cx {
         match inner.first() {
             Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => {
                 let name = self.name(t);
-                Some((name, inner[1..].iter().filter_map(|a| self.term(a)).collect(), e.range()))
+                // Sized up front: a collected `filter_map` would allocate room for four terms.
+                let mut args = Vec::with_capacity(inner.len() - 1);
+                args.extend(inner[1..].iter().filter_map(|a| self.term(a)));
+                Some((name, args, e.range()))
             }
             _ => {
                 self.malformed(e, what);
@@ -62,7 +65,7 @@ impl Cx {
     pub(super) fn fluent(&mut self, e: &GSexp<'_>) -> Option<Fluent> {
         match e {
             GSexp::List(l) => {
-                let inner: Elems<'_> = l.elements().collect();
+                let inner = elements(l);
                 let (func, args, span) =
                     self.application(e, &inner, "expected a function term like `(f ?x)`")?;
                 Some(Fluent { func, args, span })
@@ -91,7 +94,7 @@ impl Cx {
                 _ => NumExpr::Fluent(Fluent { func: self.name(t), args: Vec::new(), span: t.text_range() }),
             },
             GSexp::List(l) => {
-                let inner: Elems<'_> = l.elements().collect();
+                let inner = elements(l);
                 let span = l.range();
                 match inner.first().and_then(|h| h.atom_text()) {
                     Some(op @ ("+" | "-" | "*" | "/")) if inner.len() >= 2 => {
@@ -140,7 +143,7 @@ impl Cx {
             return Gd::And(Vec::new(), e.range());
         };
         let span = l.range();
-        let inner: Elems<'_> = l.elements().collect();
+        let inner = elements(l);
         if let Some(ts) = Self::timed_head(&inner) {
             return Gd::Timed(ts, Box::new(self.gd(&inner[2])), span);
         }
@@ -238,7 +241,7 @@ impl Cx {
                     Gd::And(Vec::new(), span)
                 }
             },
-            _ => match self.atom(e) {
+            _ => match self.atom_of(e, &inner) {
                 Some(a) => Gd::Atom(a),
                 None => Gd::And(Vec::new(), span),
             },
@@ -269,7 +272,7 @@ impl Cx {
             return Effect::And(Vec::new(), e.range());
         };
         let span = l.range();
-        let inner: Elems<'_> = l.elements().collect();
+        let inner = elements(l);
         if let Some(ts) = Self::timed_head(&inner) {
             return Effect::Timed(ts, Box::new(self.effect(&inner[2])), span);
         }
@@ -328,7 +331,7 @@ impl Cx {
                     Effect::And(Vec::new(), span)
                 }
             },
-            _ => match self.atom(e) {
+            _ => match self.atom_of(e, &inner) {
                 Some(a) => Effect::Add(a),
                 None => Effect::And(Vec::new(), span),
             },

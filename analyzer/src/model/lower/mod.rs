@@ -57,6 +57,25 @@ struct Cx {
 /// The elements of a list, on the stack for the short lists that facts and atoms are.
 type Elems<'t> = smallvec::SmallVec<[GSexp<'t>; 6]>;
 
+/// The elements of `list`, like `list.elements().collect()`.
+///
+/// Lowering a large `:init` is mostly this loop over the children of short
+/// lists: walking the direct children inline costs half of what the
+/// general iterator does, which flattens groups one child at a time. Only
+/// long lists have groups, and they take the general path.
+fn elements<'t>(list: &GList<'t>) -> Elems<'t> {
+    let mut elems = Elems::new();
+    for (start, child) in list.direct_children() {
+        if child.kind() == SyntaxKind::Group.into() {
+            return list.elements().collect();
+        }
+        if let Some(e) = GSexp::of(child, start) {
+            elems.push(e);
+        }
+    }
+    elems
+}
+
 fn atom_kind(s: &GSexp<'_>) -> Option<SyntaxKind> {
     s.as_atom().map(|t| t.kind())
 }
@@ -106,7 +125,7 @@ impl Cx {
     }
 
     fn section(&mut self, list: &GList<'_>) -> ItemData {
-        let elems: Elems<'_> = list.elements().collect();
+        let elems = elements(list);
         let Some(head) = elems.first() else {
             self.error(codes::MALFORMED, list.range(), "empty section `()`");
             return ItemData::Unknown;
@@ -260,7 +279,7 @@ impl Cx {
     fn params(&mut self, e: &GSexp<'_>) -> Vec<Typed> {
         match e {
             GSexp::List(l) => {
-                let elems: Elems<'_> = l.elements().collect();
+                let elems = elements(l);
                 self.typed_list(&elems, true)
             }
             other => {
@@ -293,7 +312,7 @@ impl Cx {
             }
             match e {
                 GSexp::List(l) => {
-                    let inner: Elems<'_> = l.elements().collect();
+                    let inner = elements(l);
                     match inner.first() {
                         Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => {
                             let name = self.name(t);
@@ -539,7 +558,7 @@ impl Cx {
     fn derived(&mut self, head: &GSexp<'_>, rest: &[GSexp<'_>]) -> ItemData {
         match rest {
             [GSexp::List(p), body] => {
-                let inner: Elems<'_> = p.elements().collect();
+                let inner = elements(p);
                 let Some(GSexp::Atom(t)) = inner.first() else {
                     self.malformed(&rest[0], "expected `(predicate ?x - t …)`");
                     return ItemData::Unknown;
@@ -565,7 +584,7 @@ impl Cx {
             return None;
         };
         let span = l.range();
-        let inner: Elems<'_> = l.elements().collect();
+        let inner = elements(l);
         match inner.as_slice() {
             [at, GSexp::Atom(n), lit @ GSexp::List(_)]
                 if at.is_atom("at") && n.kind() == SyntaxKind::Number =>
