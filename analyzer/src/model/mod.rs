@@ -110,11 +110,16 @@ impl Term {
     }
 }
 
+/// The terms of an atom, a function term or a call. Most have one or two,
+/// kept inline: a large `:init` is thousands of facts, and allocating their
+/// terms (then freeing them with the model) was a large part of their cost.
+pub type Args = smallvec::SmallVec<[Term; 2]>;
+
 /// `(pred args…)`.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Atom {
     pub pred: Name,
-    pub args: Vec<Term>,
+    pub args: Args,
     pub span: TextRange,
 }
 
@@ -122,7 +127,7 @@ pub struct Atom {
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Fluent {
     pub func: Name,
-    pub args: Vec<Term>,
+    pub args: Args,
     pub span: TextRange,
 }
 
@@ -171,7 +176,8 @@ impl Number {
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum NumExpr {
     Number(Number),
-    Fluent(Fluent),
+    /// Boxed: fluents in expressions are few, and keep `Gd::Compare` small.
+    Fluent(Box<Fluent>),
     /// `+ - * /` with two or more operands (`-` with one is negation).
     Op(Box<str>, Vec<NumExpr>, TextRange),
     /// `?duration`.
@@ -262,7 +268,7 @@ pub struct Task {
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct TaskCall {
     pub name: Name,
-    pub args: Vec<Term>,
+    pub args: Args,
     pub span: TextRange,
 }
 

@@ -35,26 +35,15 @@ impl Cx {
 
     /// An atom from the elements of its list `e`, already collected.
     pub(super) fn atom_of(&mut self, e: &GSexp<'_>, inner: &[GSexp<'_>]) -> Option<Atom> {
-        let (pred, args, span) = self.application(e, inner, "expected an atom like `(p ?x)`")?;
-        Some(Atom { pred, args, span })
+        let pred = self.applied_name(e, inner, "expected an atom like `(p ?x)`")?;
+        Some(Atom { pred, args: self.terms(&inner[1..]), span: e.range() })
     }
 
-    /// `(name term…)` (an atom, a function term, a task call), from the
-    /// elements of its list `e`: the name, the terms and the list's span.
-    pub(super) fn application(
-        &mut self,
-        e: &GSexp<'_>,
-        inner: &[GSexp<'_>],
-        what: &str,
-    ) -> Option<(Name, Vec<Term>, TextRange)> {
+    /// The name that `(name term…)` (an atom, a function term, a task call)
+    /// applies, from the elements of its list `e`.
+    pub(super) fn applied_name(&mut self, e: &GSexp<'_>, inner: &[GSexp<'_>], what: &str) -> Option<Name> {
         match inner.first() {
-            Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => {
-                let name = self.name(t);
-                // Sized up front: a collected `filter_map` would allocate room for four terms.
-                let mut args = Vec::with_capacity(inner.len() - 1);
-                args.extend(inner[1..].iter().filter_map(|a| self.term(a)));
-                Some((name, args, e.range()))
-            }
+            Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(self.name(t)),
             _ => {
                 self.malformed(e, what);
                 None
@@ -62,16 +51,27 @@ impl Cx {
         }
     }
 
+    /// The terms an application applies its name to.
+    pub(super) fn terms(&mut self, elems: &[GSexp<'_>]) -> Args {
+        let mut args = Args::new();
+        args.reserve_exact(elems.len());
+        for e in elems {
+            if let Some(t) = self.term(e) {
+                args.push(t);
+            }
+        }
+        args
+    }
+
     pub(super) fn fluent(&mut self, e: &GSexp<'_>) -> Option<Fluent> {
         match e {
             GSexp::List(l) => {
                 let inner = elements(l);
-                let (func, args, span) =
-                    self.application(e, &inner, "expected a function term like `(f ?x)`")?;
-                Some(Fluent { func, args, span })
+                let func = self.applied_name(e, &inner, "expected a function term like `(f ?x)`")?;
+                Some(Fluent { func, args: self.terms(&inner[1..]), span: e.range() })
             }
             GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol => {
-                Some(Fluent { func: self.name(t), args: Vec::new(), span: t.text_range() })
+                Some(Fluent { func: self.name(t), args: Args::new(), span: t.text_range() })
             }
             other => {
                 self.malformed(other, "expected a function term like `(f ?x)`");
@@ -91,7 +91,11 @@ impl Cx {
                 _ if t.text() == "#t" || t.text().eq_ignore_ascii_case("total-time") => {
                     NumExpr::Special(t.text().to_ascii_lowercase().into(), t.text_range())
                 }
-                _ => NumExpr::Fluent(Fluent { func: self.name(t), args: Vec::new(), span: t.text_range() }),
+                _ => NumExpr::Fluent(Box::new(Fluent {
+                    func: self.name(t),
+                    args: Args::new(),
+                    span: t.text_range(),
+                })),
             },
             GSexp::List(l) => {
                 let inner = elements(l);
@@ -112,7 +116,7 @@ impl Cx {
                         }
                     },
                     _ => match self.fluent(e) {
-                        Some(f) => NumExpr::Fluent(f),
+                        Some(f) => NumExpr::Fluent(Box::new(f)),
                         None => NumExpr::Special("error".into(), span),
                     },
                 }

@@ -606,7 +606,11 @@ impl Cx {
                     }
                 }
             }
-            _ => self.atom_of(e, &inner).map(InitElement::Fact),
+            // `atom_of`, inlined: a fact built in place is not moved once more.
+            _ => {
+                let pred = self.applied_name(e, &inner, "expected an atom like `(p ?x)`")?;
+                Some(InitElement::Fact(Atom { pred, args: self.terms(&inner[1..]), span }))
+            }
         }
     }
 }

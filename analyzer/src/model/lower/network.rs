@@ -61,8 +61,8 @@ impl Cx {
         match e {
             GSexp::List(l) => {
                 let inner = elements(l);
-                let (name, args, span) = self.application(e, &inner, "expected a task like `(name ?x …)`")?;
-                Some(TaskCall { name, args, span })
+                let name = self.applied_name(e, &inner, "expected a task like `(name ?x …)`")?;
+                Some(TaskCall { name, args: self.terms(&inner[1..]), span: e.range() })
             }
             other => {
                 self.malformed(other, "expected a task like `(name ?x …)`");
