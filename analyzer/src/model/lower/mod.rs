@@ -62,11 +62,15 @@ type Elems<'t> = smallvec::SmallVec<[GSexp<'t>; 6]>;
 /// Lowering a large `:init` is mostly this loop over the children of short
 /// lists: walking the direct children inline costs half of what the
 /// general iterator does, which flattens groups one child at a time. Only
-/// long lists have groups, and they take the general path.
+/// long lists have groups, and they take the general path. Inlined, the
+/// elements are collected where they are used instead of copied there.
+#[inline(always)]
 fn elements<'t>(list: &GList<'t>) -> Elems<'t> {
     let mut elems = Elems::new();
     for (start, child) in list.direct_children() {
-        if child.kind() == SyntaxKind::Group.into() {
+        if let NodeOrToken::Node(n) = child
+            && n.kind() == SyntaxKind::Group.into()
+        {
             return list.elements().collect();
         }
         if let Some(e) = GSexp::of(child, start) {
