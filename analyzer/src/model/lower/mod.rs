@@ -30,14 +30,19 @@ pub fn lower_list(green: &GreenNode) -> Lowered {
     Lowered { data, diags: cx.diags }
 }
 
-/// Lowers a chunk of `:init` elements, given with their offsets relative to the chunk.
-pub fn lower_chunk(
-    elements: &[(TextSize, NodeOrToken<&rowan::GreenNodeData, &rowan::GreenTokenData>)],
-) -> Lowered {
+/// Lowers a chunk of `:init` elements: the significant children of `node`
+/// after the first `skip`, with spans relative to the start of `node`.
+pub fn lower_chunk(node: &rowan::GreenNodeData, skip: usize) -> Lowered {
     let mut cx = Cx { diags: Vec::new() };
-    let mut init = Vec::with_capacity(elements.len());
-    for &(offset, element) in elements {
-        match GSexp::of(element, offset) {
+    // A guess at the number of elements, which mostly alternate with whitespace.
+    let mut init = Vec::with_capacity(node.children().len() / 2);
+    let mut skip = skip;
+    let mut at = TextSize::from(0);
+    for child in node.children() {
+        let start = at;
+        at += child.text_len();
+        match GSexp::of(child, start) {
+            Some(_) if skip > 0 => skip -= 1,
             Some(sexp @ GSexp::List(_)) => {
                 if let Some(e) = cx.init_element(&sexp) {
                     init.push(e);
