@@ -52,6 +52,7 @@ impl Cx {
     }
 
     /// The terms an application applies its name to.
+    #[inline]
     pub(super) fn terms(&mut self, elems: &[GSexp<'_>]) -> Args {
         let mut args = Args::new();
         args.reserve_exact(elems.len());
