@@ -60,6 +60,11 @@ pub fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Opt
     }
 }
 
+/// Whether a constant is a number, which has no type to check.
+fn is_number(c: &Name) -> bool {
+    matches!(c.key.as_bytes().first(), Some(b'0'..=b'9' | b'-' | b'+' | b'.')) && c.key.parse::<f64>().is_ok()
+}
+
 impl<'a, 'db> Checker<'a, 'db> {
     pub(super) fn undefined(&mut self, code: &'static Code, what: &str, name: &Name, candidates: Vec<&str>) {
         let suggestion = suggest(&name.key, candidates.into_iter()).map(str::to_string);
@@ -90,6 +95,15 @@ impl<'a, 'db> Checker<'a, 'db> {
             return self.arity_mismatch(name, args.len(), span, decl);
         }
         for (arg, param) in args.iter().zip(&decl.params) {
+            // The arguments of facts are objects: their path skips `term` and its `Cow`.
+            if let Term::Const(c) = arg
+                && let Some(ty) = self.object_type(c)
+            {
+                if !self.dom.fits(ty, param) {
+                    self.type_mismatch(name, arg, ty, param, decl);
+                }
+                continue;
+            }
             let Some(ty) = self.term(arg, wildcards) else { continue };
             // A variable of a supertype narrows to the parameter's type (HDDL's
             // "sortof" semantics); an object must fit.
@@ -145,22 +159,24 @@ impl<'a, 'db> Checker<'a, 'db> {
     /// The type of a term, reporting what is undefined.
     pub(super) fn term(&mut self, t: &Term, wildcards: bool) -> Option<Cow<'a, [Str]>> {
         match t {
-            Term::Const(c) => {
-                if matches!(c.key.as_bytes().first(), Some(b'0'..=b'9' | b'-' | b'+' | b'.'))
-                    && c.key.parse::<f64>().is_ok()
-                {
-                    return None;
-                }
-                // In a problem, objects are what most terms name: look there first
-                // (an object named like a domain constant takes its place).
-                match self.prob.and_then(|p| p.objects.get(c.key.as_str())) {
-                    Some(d) => Some(Cow::Borrowed(&d.ty)),
-                    None => self.constant(c),
-                }
-            }
+            Term::Const(c) => match self.object_type(c) {
+                Some(ty) => Some(Cow::Borrowed(ty)),
+                None if is_number(c) => None,
+                None => self.constant(c),
+            },
             Term::Var(v) => self.variable(v, wildcards),
             Term::Func(f) => self.fluent(f),
         }
+    }
+
+    /// The type of the problem object `c` names, if it names one. In a
+    /// problem, objects are what most terms name: they are looked up first
+    /// (an object named like a domain constant takes its place).
+    fn object_type(&self, c: &Name) -> Option<&'a [Str]> {
+        if is_number(c) {
+            return None;
+        }
+        self.prob.and_then(|p| p.objects.get(c.key.as_str())).map(|d| &d.ty[..])
     }
 
     fn variable(&mut self, v: &Name, wildcards: bool) -> Option<Cow<'a, [Str]>> {
