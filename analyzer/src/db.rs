@@ -201,20 +201,6 @@ pub enum ItemSyntax {
 }
 
 impl ItemSyntax {
-    /// The significant elements of a chunk with their offsets relative to its start.
-    pub fn chunk_elements(
-        &self,
-    ) -> Vec<(TextSize, NodeOrToken<&rowan::GreenNodeData, &rowan::GreenTokenData>)> {
-        let ItemSyntax::Chunk { node, after_keyword } = self else { return Vec::new() };
-        let mut at = TextSize::from(0);
-        let elements = node.0.children().filter_map(|c| {
-            let start = at;
-            at += c.text_len();
-            GSexp::of(c, start).map(|_| (start, c))
-        });
-        elements.skip(usize::from(*after_keyword)).collect()
-    }
-
     /// The length of the item's text.
     pub fn text_len(&self) -> TextSize {
         match self {
@@ -335,7 +321,7 @@ pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
 pub fn lower_item<'db>(db: &'db dyn Db, item: Item<'db>) -> Lowered {
     match item.syntax(db) {
         ItemSyntax::List(green) => model::lower_list(&green.0),
-        chunk @ ItemSyntax::Chunk { .. } => model::lower_chunk(&chunk.chunk_elements()),
+        ItemSyntax::Chunk { node, after_keyword } => model::lower_chunk(&node.0, usize::from(*after_keyword)),
     }
 }
 

@@ -19,15 +19,52 @@ pub struct Name {
 }
 
 impl Name {
+    #[inline]
     pub fn new(text: &str, span: TextRange) -> Name {
-        let text = Str::from(text);
-        // Most names are lower case already: share the text instead of copying it.
-        let key = if text.bytes().any(|b| b.is_ascii_uppercase()) {
-            Str::from(text.to_ascii_lowercase())
-        } else {
-            text.clone()
-        };
+        let upper = has_ascii_uppercase(text.as_bytes());
+        let text = Str::new(text);
+        let mut key = text.clone();
+        // Most names are lower case already: their key is a copy of the text.
+        if upper {
+            key.make_ascii_lowercase();
+        }
         Name { text, key, span }
+    }
+}
+
+/// Whether `s` has an ASCII upper-case letter, tested eight bytes at a time:
+/// a big problem has tens of thousands of names, and a loop over their bytes
+/// was close to half the cost of making one.
+fn has_ascii_uppercase(s: &[u8]) -> bool {
+    /// Whether a byte of `w` is in `A..=Z`. Each addition sets a byte's high
+    /// bit when the byte is at least some bound; clearing the high bits first
+    /// keeps the carries inside their bytes, and `!w` leaves non-ASCII out.
+    fn upper(w: u64) -> bool {
+        const LOW: u64 = 0x7f7f_7f7f_7f7f_7f7f;
+        let low = w & LOW;
+        let at_least_a = low + 0x3f3f_3f3f_3f3f_3f3f; // 0x80 - b'A'
+        let past_z = low + 0x2525_2525_2525_2525; // 0x80 - (b'Z' + 1)
+        at_least_a & !past_z & !w & !LOW != 0
+    }
+    let byte = |i: usize| u64::from(s[i]);
+    let half = |i: usize| u64::from(u32::from_le_bytes(s[i..i + 4].try_into().expect("four bytes")));
+    let word = |i: usize| u64::from_le_bytes(s[i..i + 8].try_into().expect("eight bytes"));
+    // Overlapping reads cover every byte, some twice, which an "any" test allows.
+    let n = s.len();
+    match n {
+        0 => false,
+        1..4 => upper(byte(0) | byte(n / 2) << 8 | byte(n - 1) << 16),
+        4..8 => upper(half(0) | half(n - 4) << 32),
+        _ => {
+            let mut i = 0;
+            while i + 8 < n {
+                if upper(word(i)) {
+                    return true;
+                }
+                i += 8;
+            }
+            upper(word(n - 8))
+        }
     }
 }
 
@@ -73,11 +110,16 @@ impl Term {
     }
 }
 
+/// The terms of an atom, a function term or a call. Most have one or two,
+/// kept inline: a large `:init` is thousands of facts, and allocating their
+/// terms (then freeing them with the model) was a large part of their cost.
+pub type Args = smallvec::SmallVec<[Term; 2]>;
+
 /// `(pred args…)`.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Atom {
     pub pred: Name,
-    pub args: Vec<Term>,
+    pub args: Args,
     pub span: TextRange,
 }
 
@@ -85,7 +127,7 @@ pub struct Atom {
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Fluent {
     pub func: Name,
-    pub args: Vec<Term>,
+    pub args: Args,
     pub span: TextRange,
 }
 
@@ -134,7 +176,8 @@ impl Number {
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum NumExpr {
     Number(Number),
-    Fluent(Fluent),
+    /// Boxed: fluents in expressions are few, and keep `Gd::Compare` small.
+    Fluent(Box<Fluent>),
     /// `+ - * /` with two or more operands (`-` with one is negation).
     Op(Box<str>, Vec<NumExpr>, TextRange),
     /// `?duration`.
@@ -254,7 +297,7 @@ pub enum ConflictsForm {
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct TaskCall {
     pub name: Name,
-    pub args: Vec<Term>,
+    pub args: Args,
     pub span: TextRange,
 }
 
@@ -382,4 +425,24 @@ pub enum ItemData {
     Constraints(Gd),
     /// Anything that could not be understood (already reported).
     Unknown,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn upper_case_is_found_at_every_length_and_position() {
+        for n in 0..40 {
+            assert!(!has_ascii_uppercase(&vec![b'a'; n]));
+            for i in 0..n {
+                for b in 0..=u8::MAX {
+                    let mut s = vec![b'a'; n];
+                    s[i] = b;
+                    assert_eq!(has_ascii_uppercase(&s), b.is_ascii_uppercase(), "{n} {i} {b}");
+                }
+            }
+        }
+        assert_eq!(Name::new("At-R", TextRange::default()).key, "at-r");
+    }
 }

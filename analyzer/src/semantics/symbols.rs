@@ -107,15 +107,30 @@ impl<'db> DomainSymbols<'db> {
     }
 
     /// Whether every alternative of `arg` fits some alternative of `param`.
+    #[inline]
     pub fn fits(&self, arg: &[Str], param: &[Str]) -> bool {
-        // The common case, a plain type given where it is expected, needs no lookup.
+        // The common case, a plain type given where it is expected, needs no
+        // lookup: it is tested inline, for every argument of every fact.
         if let [a] = arg
-            && param.contains(a)
+            && param.iter().any(|p| p.as_str() == a.as_str())
         {
             return true;
         }
-        arg.iter()
-            .all(|a| !self.is_type(a) || param.iter().any(|p| !self.is_type(p) || self.is_subtype(a, p)))
+        self.fits_by_ancestry(arg, param)
+    }
+
+    fn fits_by_ancestry(&self, arg: &[Str], param: &[Str]) -> bool {
+        arg.iter().all(|a| {
+            // Every declared type has its ancestors: one lookup tells whether
+            // `a` is a type and which types it fits.
+            let ancestors = self.ancestors.get(a);
+            if ancestors.is_none() && !self.is_type(a) {
+                return true;
+            }
+            param.iter().any(|p| {
+                a == p || p == "object" || ancestors.is_some_and(|up| up.contains(p)) || !self.is_type(p)
+            })
+        })
     }
 
     /// Whether some object could have both types: every alternative of `arg`
@@ -333,4 +348,43 @@ pub fn problem_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> ProblemSymbols<
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `fits` agrees with its definition: every alternative of the argument
+    /// that is a type is a subtype of some alternative of the parameter that
+    /// is a type, or the parameter has an alternative that is not a type.
+    #[test]
+    fn fits_is_subtyping_of_every_alternative() {
+        let mut d = DomainSymbols::default();
+        // car - vehicle - object, truck - vehicle, place (a root), undeclared names.
+        for (t, up) in [
+            ("car", &["car", "vehicle", "object"][..]),
+            ("truck", &["truck", "vehicle", "object"]),
+            ("vehicle", &["vehicle", "object"]),
+            ("place", &["place", "object"]),
+        ] {
+            d.types.insert(t.into(), TypeDecl { parents: Vec::new(), locs: Vec::new() });
+            d.ancestors.insert(t.into(), up.iter().map(|&u| Str::from(u)).collect());
+        }
+        let names = ["car", "truck", "vehicle", "place", "object", "number", "ghost"];
+        let sets: Vec<Vec<Str>> = names
+            .iter()
+            .map(|&n| vec![Str::from(n)])
+            .chain(names.iter().flat_map(|&a| names.iter().map(move |&b| vec![Str::from(a), Str::from(b)])))
+            .collect();
+        let definition = |arg: &[Str], param: &[Str]| {
+            arg.iter().all(|a| !d.is_type(a) || param.iter().any(|p| !d.is_type(p) || d.is_subtype(a, p)))
+        };
+        for arg in &sets {
+            for param in &sets {
+                assert_eq!(d.fits(arg, param), definition(arg, param), "{arg:?} in {param:?}");
+            }
+        }
+        assert!(d.fits(&["car".into()], &["vehicle".into()]));
+        assert!(!d.fits(&["vehicle".into()], &["car".into()]));
+    }
 }

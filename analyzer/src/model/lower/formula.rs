@@ -3,7 +3,7 @@
 use rowan::TextRange;
 
 use super::network::is_ordering_shape;
-use super::{Cx, Elems, GSexp, SyntaxKind, atom_kind};
+use super::{Cx, GSexp, SyntaxKind, atom_kind, elements};
 use crate::model::*;
 
 impl Cx {
@@ -29,29 +29,21 @@ impl Cx {
             self.malformed(e, "expected an atom like `(p ?x)`");
             return None;
         };
-        let inner: Elems<'_> = l.elements().collect();
+        let inner = elements(l);
         self.atom_of(e, &inner)
     }
 
     /// An atom from the elements of its list `e`, already collected.
     pub(super) fn atom_of(&mut self, e: &GSexp<'_>, inner: &[GSexp<'_>]) -> Option<Atom> {
-        let (pred, args, span) = self.application(e, inner, "expected an atom like `(p ?x)`")?;
-        Some(Atom { pred, args, span })
+        let pred = self.applied_name(e, inner, "expected an atom like `(p ?x)`")?;
+        Some(Atom { pred, args: self.terms(&inner[1..]), span: e.range() })
     }
 
-    /// `(name term…)` (an atom, a function term, a task call), from the
-    /// elements of its list `e`: the name, the terms and the list's span.
-    pub(super) fn application(
-        &mut self,
-        e: &GSexp<'_>,
-        inner: &[GSexp<'_>],
-        what: &str,
-    ) -> Option<(Name, Vec<Term>, TextRange)> {
+    /// The name that `(name term…)` (an atom, a function term, a task call)
+    /// applies, from the elements of its list `e`.
+    pub(super) fn applied_name(&mut self, e: &GSexp<'_>, inner: &[GSexp<'_>], what: &str) -> Option<Name> {
         match inner.first() {
-            Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => {
-                let name = self.name(t);
-                Some((name, inner[1..].iter().filter_map(|a| self.term(a)).collect(), e.range()))
-            }
+            Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => Some(self.name(t)),
             _ => {
                 self.malformed(e, what);
                 None
@@ -59,16 +51,28 @@ impl Cx {
         }
     }
 
+    /// The terms an application applies its name to.
+    #[inline]
+    pub(super) fn terms(&mut self, elems: &[GSexp<'_>]) -> Args {
+        let mut args = Args::new();
+        args.reserve_exact(elems.len());
+        for e in elems {
+            if let Some(t) = self.term(e) {
+                args.push(t);
+            }
+        }
+        args
+    }
+
     pub(super) fn fluent(&mut self, e: &GSexp<'_>) -> Option<Fluent> {
         match e {
             GSexp::List(l) => {
-                let inner: Elems<'_> = l.elements().collect();
-                let (func, args, span) =
-                    self.application(e, &inner, "expected a function term like `(f ?x)`")?;
-                Some(Fluent { func, args, span })
+                let inner = elements(l);
+                let func = self.applied_name(e, &inner, "expected a function term like `(f ?x)`")?;
+                Some(Fluent { func, args: self.terms(&inner[1..]), span: e.range() })
             }
             GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol => {
-                Some(Fluent { func: self.name(t), args: Vec::new(), span: t.text_range() })
+                Some(Fluent { func: self.name(t), args: Args::new(), span: t.text_range() })
             }
             other => {
                 self.malformed(other, "expected a function term like `(f ?x)`");
@@ -88,10 +92,14 @@ impl Cx {
                 _ if t.text() == "#t" || t.text().eq_ignore_ascii_case("total-time") => {
                     NumExpr::Special(t.text().to_ascii_lowercase().into(), t.text_range())
                 }
-                _ => NumExpr::Fluent(Fluent { func: self.name(t), args: Vec::new(), span: t.text_range() }),
+                _ => NumExpr::Fluent(Box::new(Fluent {
+                    func: self.name(t),
+                    args: Args::new(),
+                    span: t.text_range(),
+                })),
             },
             GSexp::List(l) => {
-                let inner: Elems<'_> = l.elements().collect();
+                let inner = elements(l);
                 let span = l.range();
                 match inner.first().and_then(|h| h.atom_text()) {
                     Some(op @ ("+" | "-" | "*" | "/")) if inner.len() >= 2 => {
@@ -109,7 +117,7 @@ impl Cx {
                         }
                     },
                     _ => match self.fluent(e) {
-                        Some(f) => NumExpr::Fluent(f),
+                        Some(f) => NumExpr::Fluent(Box::new(f)),
                         None => NumExpr::Special("error".into(), span),
                     },
                 }
@@ -140,7 +148,7 @@ impl Cx {
             return Gd::And(Vec::new(), e.range());
         };
         let span = l.range();
-        let inner: Elems<'_> = l.elements().collect();
+        let inner = elements(l);
         if let Some(ts) = Self::timed_head(&inner) {
             return Gd::Timed(ts, Box::new(self.gd(&inner[2])), span);
         }
@@ -238,7 +246,7 @@ impl Cx {
                     Gd::And(Vec::new(), span)
                 }
             },
-            _ => match self.atom(e) {
+            _ => match self.atom_of(e, &inner) {
                 Some(a) => Gd::Atom(a),
                 None => Gd::And(Vec::new(), span),
             },
@@ -269,7 +277,7 @@ impl Cx {
             return Effect::And(Vec::new(), e.range());
         };
         let span = l.range();
-        let inner: Elems<'_> = l.elements().collect();
+        let inner = elements(l);
         if let Some(ts) = Self::timed_head(&inner) {
             return Effect::Timed(ts, Box::new(self.effect(&inner[2])), span);
         }
@@ -328,7 +336,7 @@ impl Cx {
                     Effect::And(Vec::new(), span)
                 }
             },
-            _ => match self.atom(e) {
+            _ => match self.atom_of(e, &inner) {
                 Some(a) => Effect::Add(a),
                 None => Effect::And(Vec::new(), span),
             },

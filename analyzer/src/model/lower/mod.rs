@@ -30,14 +30,19 @@ pub fn lower_list(green: &GreenNode) -> Lowered {
     Lowered { data, diags: cx.diags }
 }
 
-/// Lowers a chunk of `:init` elements, given with their offsets relative to the chunk.
-pub fn lower_chunk(
-    elements: &[(TextSize, NodeOrToken<&rowan::GreenNodeData, &rowan::GreenTokenData>)],
-) -> Lowered {
+/// Lowers a chunk of `:init` elements: the significant children of `node`
+/// after the first `skip`, with spans relative to the start of `node`.
+pub fn lower_chunk(node: &rowan::GreenNodeData, skip: usize) -> Lowered {
     let mut cx = Cx { diags: Vec::new() };
-    let mut init = Vec::with_capacity(elements.len());
-    for &(offset, element) in elements {
-        match GSexp::of(element, offset) {
+    // A guess at the number of elements, which mostly alternate with whitespace.
+    let mut init = Vec::with_capacity(node.children().len() / 2);
+    let mut skip = skip;
+    let mut at = TextSize::from(0);
+    for child in node.children() {
+        let start = at;
+        at += child.text_len();
+        match GSexp::of(child, start) {
+            Some(_) if skip > 0 => skip -= 1,
             Some(sexp @ GSexp::List(_)) => {
                 if let Some(e) = cx.init_element(&sexp) {
                     init.push(e);
@@ -56,6 +61,29 @@ struct Cx {
 
 /// The elements of a list, on the stack for the short lists that facts and atoms are.
 type Elems<'t> = smallvec::SmallVec<[GSexp<'t>; 6]>;
+
+/// The elements of `list`, like `list.elements().collect()`.
+///
+/// Lowering a large `:init` is mostly this loop over the children of short
+/// lists: walking the direct children inline costs half of what the
+/// general iterator does, which flattens groups one child at a time. Only
+/// long lists have groups, and they take the general path. Inlined, the
+/// elements are collected where they are used instead of copied there.
+#[inline(always)]
+fn elements<'t>(list: &GList<'t>) -> Elems<'t> {
+    let mut elems = Elems::new();
+    for (start, child) in list.direct_children() {
+        if let NodeOrToken::Node(n) = child
+            && n.kind() == SyntaxKind::Group.into()
+        {
+            return list.elements().collect();
+        }
+        if let Some(e) = GSexp::of(child, start) {
+            elems.push(e);
+        }
+    }
+    elems
+}
 
 fn atom_kind(s: &GSexp<'_>) -> Option<SyntaxKind> {
     s.as_atom().map(|t| t.kind())
@@ -106,7 +134,7 @@ impl Cx {
     }
 
     fn section(&mut self, list: &GList<'_>) -> ItemData {
-        let elems: Elems<'_> = list.elements().collect();
+        let elems = elements(list);
         let Some(head) = elems.first() else {
             self.error(codes::MALFORMED, list.range(), "empty section `()`");
             return ItemData::Unknown;
@@ -260,7 +288,7 @@ impl Cx {
     fn params(&mut self, e: &GSexp<'_>) -> Vec<Typed> {
         match e {
             GSexp::List(l) => {
-                let elems: Elems<'_> = l.elements().collect();
+                let elems = elements(l);
                 self.typed_list(&elems, true)
             }
             other => {
@@ -293,7 +321,7 @@ impl Cx {
             }
             match e {
                 GSexp::List(l) => {
-                    let inner: Elems<'_> = l.elements().collect();
+                    let inner = elements(l);
                     match inner.first() {
                         Some(GSexp::Atom(t)) if t.kind() == SyntaxKind::Symbol => {
                             let name = self.name(t);
@@ -550,7 +578,7 @@ impl Cx {
     fn derived(&mut self, head: &GSexp<'_>, rest: &[GSexp<'_>]) -> ItemData {
         match rest {
             [GSexp::List(p), body] => {
-                let inner: Elems<'_> = p.elements().collect();
+                let inner = elements(p);
                 let Some(GSexp::Atom(t)) = inner.first() else {
                     self.malformed(&rest[0], "expected `(predicate ?x - t …)`");
                     return ItemData::Unknown;
@@ -576,7 +604,7 @@ impl Cx {
             return None;
         };
         let span = l.range();
-        let inner: Elems<'_> = l.elements().collect();
+        let inner = elements(l);
         match inner.as_slice() {
             [at, GSexp::Atom(n), lit @ GSexp::List(_)]
                 if at.is_atom("at") && n.kind() == SyntaxKind::Number =>
@@ -598,7 +626,11 @@ impl Cx {
                     }
                 }
             }
-            _ => self.atom_of(e, &inner).map(InitElement::Fact),
+            // `atom_of`, inlined: a fact built in place is not moved once more.
+            _ => {
+                let pred = self.applied_name(e, &inner, "expected an atom like `(p ?x)`")?;
+                Some(InitElement::Fact(Atom { pred, args: self.terms(&inner[1..]), span }))
+            }
         }
     }
 }

@@ -1,7 +1,7 @@
 //! Lowering task networks: subtasks, orderings (prefix, infix and timed),
 //! causal links, and calls of tasks.
 
-use super::{Cx, Elems, GSexp, SyntaxKind};
+use super::{Cx, Elems, GSexp, SyntaxKind, elements};
 use crate::model::*;
 
 /// A subtask id, `(start id)` or `(end id)`.
@@ -60,9 +60,9 @@ impl Cx {
     pub(super) fn task_call(&mut self, e: &GSexp<'_>) -> Option<TaskCall> {
         match e {
             GSexp::List(l) => {
-                let inner: Elems<'_> = l.elements().collect();
-                let (name, args, span) = self.application(e, &inner, "expected a task like `(name ?x …)`")?;
-                Some(TaskCall { name, args, span })
+                let inner = elements(l);
+                let name = self.applied_name(e, &inner, "expected a task like `(name ?x …)`")?;
+                Some(TaskCall { name, args: self.terms(&inner[1..]), span: e.range() })
             }
             other => {
                 self.malformed(other, "expected a task like `(name ?x …)`");
@@ -81,7 +81,7 @@ impl Cx {
             self.malformed(e, "expected a subtask like `(t1 (name ?x …))`");
             return None;
         };
-        let inner: Elems<'_> = l.elements().collect();
+        let inner = elements(l);
         match inner.as_slice() {
             [GSexp::Atom(id), call @ GSexp::List(_)] if id.kind() == SyntaxKind::Symbol => {
                 let id = self.name(id);
@@ -95,7 +95,7 @@ impl Cx {
         let items = conjuncts(e);
         let mut out = Vec::new();
         for x in &items {
-            let inner: Elems<'_> = x.as_list().map(|l| l.elements().collect()).unwrap_or_default();
+            let inner: Elems<'_> = x.as_list().map(elements).unwrap_or_default();
             match inner.as_slice() {
                 [GSexp::Atom(from), lit, GSexp::Atom(to)] => {
                     let (from, to) = (self.name(from), self.name(to));
@@ -126,7 +126,7 @@ impl Cx {
                 Some(OrderPoint { id: self.name(t), endpoint: Endpoint::Whole })
             }
             GSexp::List(l) => {
-                let inner: Elems<'_> = l.elements().collect();
+                let inner = elements(l);
                 match inner.as_slice() {
                     [which, GSexp::Atom(id)] if which.is_atom("start") || which.is_atom("end") => {
                         Some(OrderPoint {
@@ -152,7 +152,7 @@ impl Cx {
             self.malformed(e, "expected an ordering like `(< t1 t2)`");
             return None;
         };
-        let inner: Elems<'_> = l.elements().collect();
+        let inner = elements(l);
         if let [not, inner_e] = inner.as_slice()
             && not.is_atom("not")
         {

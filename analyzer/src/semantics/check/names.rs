@@ -60,6 +60,11 @@ pub fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Opt
     }
 }
 
+/// Whether a constant is a number, which has no type to check.
+fn is_number(c: &Name) -> bool {
+    matches!(c.key.as_bytes().first(), Some(b'0'..=b'9' | b'-' | b'+' | b'.')) && c.key.parse::<f64>().is_ok()
+}
+
 impl<'a, 'db> Checker<'a, 'db> {
     pub(super) fn undefined(&mut self, code: &'static Code, what: &str, name: &Name, candidates: Vec<&str>) {
         let suggestion = suggest(&name.key, candidates.into_iter()).map(str::to_string);
@@ -83,28 +88,22 @@ impl<'a, 'db> Checker<'a, 'db> {
         decl: &SigDecl<'db>,
         wildcards: bool,
     ) {
-        let kind = match decl.kind {
-            DeclKind::Predicate | DeclKind::Derived => "predicate",
-            DeclKind::Function => "function",
-            DeclKind::Action(_) => "action",
-            DeclKind::Task => "task",
-        };
         if args.len() != decl.params.len() {
             for a in args {
                 self.term(a, wildcards);
             }
-            let msg = format!(
-                "{kind} `{}` takes {} argument{}, but {} {} given",
-                name.text,
-                decl.params.len(),
-                if decl.params.len() == 1 { "" } else { "s" },
-                args.len(),
-                if args.len() == 1 { "is" } else { "are" }
-            );
-            self.diag(codes::ARITY, span, msg).related.push((decl.loc, "declared here".into()));
-            return;
+            return self.arity_mismatch(name, args.len(), span, decl);
         }
         for (arg, param) in args.iter().zip(&decl.params) {
+            // The arguments of facts are objects: their path skips `term` and its `Cow`.
+            if let Term::Const(c) = arg
+                && let Some(ty) = self.object_type(c)
+            {
+                if !self.dom.fits(ty, param) {
+                    self.type_mismatch(name, arg, ty, param, decl);
+                }
+                continue;
+            }
             let Some(ty) = self.term(arg, wildcards) else { continue };
             // A variable of a supertype narrows to the parameter's type (HDDL's
             // "sortof" semantics); an object must fit.
@@ -113,105 +112,142 @@ impl<'a, 'db> Checker<'a, 'db> {
                 _ => self.dom.fits(&ty, param),
             };
             if !ok {
-                let msg = format!(
-                    "`{}` has type {}, but {kind} `{}` expects {} here",
-                    term_text(arg),
-                    describe(&ty),
-                    name.text,
-                    describe(param)
-                );
-                self.diag(codes::TYPE_MISMATCH, arg.span(), msg)
-                    .related
-                    .push((decl.loc, "declared here".into()));
+                self.type_mismatch(name, arg, &ty, param, decl);
             }
         }
     }
 
+    fn decl_kind(decl: &SigDecl<'db>) -> &'static str {
+        match decl.kind {
+            DeclKind::Predicate | DeclKind::Derived => "predicate",
+            DeclKind::Function => "function",
+            DeclKind::Action(_) => "action",
+            DeclKind::Task => "task",
+        }
+    }
+
+    // The reports are out of line: `args` runs for every argument of every
+    // fact, and is cheaper without their formatting code around it.
+    #[cold]
+    fn arity_mismatch(&mut self, name: &Name, given: usize, span: TextRange, decl: &SigDecl<'db>) {
+        let expected = decl.params.len();
+        let msg = format!(
+            "{} `{}` takes {} argument{}, but {} {} given",
+            Self::decl_kind(decl),
+            name.text,
+            expected,
+            if expected == 1 { "" } else { "s" },
+            given,
+            if given == 1 { "is" } else { "are" }
+        );
+        self.diag(codes::ARITY, span, msg).related.push((decl.loc, "declared here".into()));
+    }
+
+    #[cold]
+    fn type_mismatch(&mut self, name: &Name, arg: &Term, ty: &[Str], param: &[Str], decl: &SigDecl<'db>) {
+        let msg = format!(
+            "`{}` has type {}, but {} `{}` expects {} here",
+            term_text(arg),
+            describe(ty),
+            Self::decl_kind(decl),
+            name.text,
+            describe(param)
+        );
+        self.diag(codes::TYPE_MISMATCH, arg.span(), msg).related.push((decl.loc, "declared here".into()));
+    }
+
     /// The type of a term, reporting what is undefined.
     pub(super) fn term(&mut self, t: &Term, wildcards: bool) -> Option<Cow<'a, [Str]>> {
-        let dom = self.dom;
         match t {
-            Term::Var(v) => {
-                if let Some((_, ty)) = self.scope.iter().rev().find(|(n, _)| *n == v.key) {
-                    return Some(Cow::Owned(ty.clone()));
-                }
-                if v.key.as_str() == "?duration" && self.durative {
-                    return None;
-                }
-                if !wildcards {
-                    let cands: Vec<String> = self.scope.iter().map(|(n, _)| n.to_string()).collect();
-                    let suggestion = suggest(&v.key, cands.iter().map(String::as_str)).map(str::to_string);
-                    let d = self.diag(
-                        codes::UNDEFINED_VARIABLE,
-                        v.span,
-                        format!("variable `{}` is not bound by a parameter or quantifier", v.text),
-                    );
-                    if let Some(s) = suggestion {
-                        d.message.push_str(&format!(" (did you mean `{s}`?)"));
-                        d.fix = Some((format!("replace with `{s}`"), v.span, s));
-                    }
-                }
-                None
-            }
-            Term::Const(c) => {
-                let numeric =
-                    c.key.as_bytes().first().is_some_and(|b| b.is_ascii_digit() || b"-+.".contains(b));
-                if numeric && c.key.parse::<f64>().is_ok() {
-                    return None;
-                }
-                // In a problem, objects are what most terms name: look there first
-                // (an object named like a domain constant takes its place).
-                if let Some(d) = self.prob.and_then(|p| p.objects.get(&c.key)) {
-                    return Some(Cow::Borrowed(&d.ty));
-                }
-                if let Some(d) = dom.constants.get(&c.key) {
-                    // Only domain constants can be unused declarations.
-                    if !self.out.uses.constants.contains(&c.key) {
-                        self.out.uses.constants.insert(c.key.clone());
-                    }
-                    return Some(Cow::Borrowed(&d.ty));
-                }
-                if let Some(d) = self.prob.and_then(|p| p.objects.get(&c.key)) {
-                    return Some(Cow::Borrowed(&d.ty));
-                }
-                if self.prob.is_none() && self.known_domain {
-                    // pandaPIparser accepts a domain constant that its problems declare as an object.
-                    let problems = crate::semantics::resolve::problems_of(self.db, self.unit);
-                    let declaring = problems.iter().find_map(|&p| {
-                        problem_symbols(self.db, p).objects.get(&c.key).map(|o| (p, o.clone()))
-                    });
-                    if let Some((p, obj)) = declaring {
-                        let pname = p.name(self.db).clone().unwrap_or_default();
-                        let msg = format!(
-                            "constant `{}` is not declared in the domain, only as an object of problem `{pname}`",
-                            c.text
-                        );
-                        self.diag(codes::CONSTANT_FROM_PROBLEM, c.span, msg)
-                            .related
-                            .push((obj.loc, "declared here".into()));
-                        return Some(Cow::Owned(obj.ty));
-                    }
-                    if problems.is_empty() {
-                        let msg = format!(
-                            "constant `{}` is not declared in the domain: its problems must declare it as an object",
-                            c.text
-                        );
-                        self.diag(codes::CONSTANT_FROM_PROBLEM, c.span, msg);
-                        return None;
-                    }
-                }
-                if self.known_domain {
-                    let mut cands: Vec<&str> = self.dom.constants.keys().map(|k| &**k).collect();
-                    if let Some(p) = self.prob {
-                        cands.extend(p.objects.keys().map(|k| &**k));
-                    }
-                    let what = if self.prob.is_some() { "object" } else { "constant" };
-                    self.undefined(codes::UNDEFINED_OBJECT, what, c, cands);
-                }
-                None
-            }
+            Term::Const(c) => match self.object_type(c) {
+                Some(ty) => Some(Cow::Borrowed(ty)),
+                None if is_number(c) => None,
+                None => self.constant(c),
+            },
+            Term::Var(v) => self.variable(v, wildcards),
             Term::Func(f) => self.fluent(f),
         }
+    }
+
+    /// The type of the problem object `c` names, if it names one. In a
+    /// problem, objects are what most terms name: they are looked up first
+    /// (an object named like a domain constant takes its place).
+    fn object_type(&self, c: &Name) -> Option<&'a [Str]> {
+        if is_number(c) {
+            return None;
+        }
+        self.prob.and_then(|p| p.objects.get(c.key.as_str())).map(|d| &d.ty[..])
+    }
+
+    fn variable(&mut self, v: &Name, wildcards: bool) -> Option<Cow<'a, [Str]>> {
+        if let Some((_, ty)) = self.scope.iter().rev().find(|(n, _)| *n == v.key) {
+            return Some(Cow::Owned(ty.clone()));
+        }
+        if v.key.as_str() == "?duration" && self.durative {
+            return None;
+        }
+        if !wildcards {
+            let cands: Vec<String> = self.scope.iter().map(|(n, _)| n.to_string()).collect();
+            let suggestion = suggest(&v.key, cands.iter().map(String::as_str)).map(str::to_string);
+            let d = self.diag(
+                codes::UNDEFINED_VARIABLE,
+                v.span,
+                format!("variable `{}` is not bound by a parameter or quantifier", v.text),
+            );
+            if let Some(s) = suggestion {
+                d.message.push_str(&format!(" (did you mean `{s}`?)"));
+                d.fix = Some((format!("replace with `{s}`"), v.span, s));
+            }
+        }
+        None
+    }
+
+    /// The type of a constant that is not an object of the problem: a domain
+    /// constant, or undefined.
+    fn constant(&mut self, c: &Name) -> Option<Cow<'a, [Str]>> {
+        let dom = self.dom;
+        if let Some(d) = dom.constants.get(&c.key) {
+            // Only domain constants can be unused declarations.
+            if !self.out.uses.constants.contains(&c.key) {
+                self.out.uses.constants.insert(c.key.clone());
+            }
+            return Some(Cow::Borrowed(&d.ty));
+        }
+        if self.prob.is_none() && self.known_domain {
+            // pandaPIparser accepts a domain constant that its problems declare as an object.
+            let problems = crate::semantics::resolve::problems_of(self.db, self.unit);
+            let declaring = problems
+                .iter()
+                .find_map(|&p| problem_symbols(self.db, p).objects.get(&c.key).map(|o| (p, o.clone())));
+            if let Some((p, obj)) = declaring {
+                let pname = p.name(self.db).clone().unwrap_or_default();
+                let msg = format!(
+                    "constant `{}` is not declared in the domain, only as an object of problem `{pname}`",
+                    c.text
+                );
+                self.diag(codes::CONSTANT_FROM_PROBLEM, c.span, msg)
+                    .related
+                    .push((obj.loc, "declared here".into()));
+                return Some(Cow::Owned(obj.ty));
+            }
+            if problems.is_empty() {
+                let msg = format!(
+                    "constant `{}` is not declared in the domain: its problems must declare it as an object",
+                    c.text
+                );
+                self.diag(codes::CONSTANT_FROM_PROBLEM, c.span, msg);
+                return None;
+            }
+        }
+        if self.known_domain {
+            let mut cands: Vec<&str> = self.dom.constants.keys().map(|k| &**k).collect();
+            if let Some(p) = self.prob {
+                cands.extend(p.objects.keys().map(|k| &**k));
+            }
+            let what = if self.prob.is_some() { "object" } else { "constant" };
+            self.undefined(codes::UNDEFINED_OBJECT, what, c, cands);
+        }
+        None
     }
 
     pub(super) fn fluent(&mut self, f: &Fluent) -> Option<Cow<'a, [Str]>> {
