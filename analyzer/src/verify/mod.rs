@@ -2,6 +2,11 @@
 //! can be trusted with it (sections 4.2 and 4.3 of the HiPOP paper).
 //!
 //! - [`lifted`]: the STRIPS view of actions, tasks and methods the checks share.
+//! - [`state`], [`ground`], [`reach`]: the ground problem (objects, atoms, the
+//!   initial state, the instances of actions, tasks and methods) and relaxed
+//!   reachability, the base of the problem lints.
+//!   `instantiate.rs` is the engine behind [`ground`].
+//! - [`duration`]: durations evaluated from the problem's fluents.
 //!
 //! Lints are found in two salsa queries: [`domain_lints`] (what a domain alone
 //! shows) and [`problem_lints`] (what needs a problem and its domain; they may
@@ -13,7 +18,12 @@
 //! Problem lints run only when the problem and its domain have no errors: the
 //! model they reason on would not be the one the user wrote.
 
+pub mod duration;
+pub mod ground;
+mod instantiate;
 pub mod lifted;
+pub mod reach;
+pub mod state;
 
 use crate::db::{Db, Unit, UnitKind};
 use crate::diagnostic::{Code, Diagnostic, Fix, Related, Severity};
