@@ -76,6 +76,8 @@ pub mod codes {
         DUPLICATE_TYPE = "W0204" "duplicate-type" Warning "a type is declared twice";
         DOMAIN_MISMATCH = "W0205" "domain-mismatch" Warning "a problem names a domain other than the one beside it";
         CONSTANT_FROM_PROBLEM = "W0206" "constant-from-problem" Warning "a domain uses a constant that only its problems declare";
+
+        DURATION_NOT_EVALUABLE = "E0305" "duration-not-evaluable" Error "a duration cannot be evaluated from the problem's numeric fluents";
     }
 }
 

@@ -1,6 +1,7 @@
 //! Durations of ground operators, evaluated from the problem's numeric fluents
 //! (`(= ?duration (/ (distance ?from ?to) (speed ?r)))` with
-//! `(= (distance a b) 30.98)` in `:init`).
+//! `(= (distance a b) 30.98)` in `:init`), and the lint `E0305` for those that
+//! cannot be.
 //!
 //! A fluent that some effect changes (`(decrease (fuel ?a) …)`) has no single
 //! value: a duration that reads one is not a constant of the instance, so it
@@ -11,8 +12,12 @@
 
 use rowan::TextRange;
 
+use super::Lint;
+use super::ground::{Ground, ground};
 use super::lifted::{Duration, Param};
 use super::state::{FuncId, InitialState, Interner, ObjId, Objects};
+use crate::db::{Db, Unit};
+use crate::diagnostic::codes;
 use crate::model::{NumExpr, Term};
 use crate::semantics::symbols::Loc;
 
@@ -284,4 +289,46 @@ pub struct DurationIssue<'db> {
     pub fact: Option<Loc<'db>>,
     /// How many instances failed.
     pub count: usize,
+}
+
+/// `E0305`: durations that cannot be evaluated from the problem's fluents.
+pub fn duration_lints<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Vec<Lint<'db>> {
+    // Grounding is only needed when some duration depends on the problem (or
+    // cannot be evaluated at all): constant ones (`(= ?duration 10)`, most
+    // of the IPC `time-simple` domains) are fine for every instance.
+    let Some(domain) = crate::semantics::check::domain_for(db, problem) else { return Vec::new() };
+    let depends = domain.items(db).iter().any(|&i| {
+        super::lifted::operator(db, i).as_ref().is_some_and(
+            |op| matches!(&op.duration, Duration::Exact(e) if super::state::constant(e).is_none()),
+        )
+    });
+    if !depends {
+        return Vec::new();
+    }
+    let g: &Ground<'db> = ground(db, problem);
+    let problem_name = problem.name(db).clone().unwrap_or_default();
+    g.duration_issues
+        .iter()
+        .map(|d| {
+            let mut message =
+                format!("duration of `{}` cannot be evaluated for `{}`: {}", d.operator, d.instance, d.why);
+            if d.count > 1 {
+                let others = d.count - 1;
+                message.push_str(&format!(
+                    " ({others} other instance{} of `{}` neither)",
+                    if others == 1 { "" } else { "s" },
+                    d.operator
+                ));
+            }
+            let mut lint = Lint::new(codes::DURATION_NOT_EVALUABLE, d.loc, message);
+            match (d.fact, g.init.keyword_loc(db)) {
+                (Some(fact), _) => lint = lint.related(fact, "set to 0 here"),
+                (None, Some(init)) => {
+                    lint = lint.related(init, format!("the initial state of problem `{problem_name}`"))
+                }
+                (None, None) => {}
+            }
+            lint
+        })
+        .collect()
 }

@@ -6,7 +6,7 @@
 //!   initial state, the instances of actions, tasks and methods) and relaxed
 //!   reachability, the base of the problem lints.
 //!   `instantiate.rs` is the engine behind [`ground`].
-//! - [`duration`]: durations evaluated from the problem's fluents.
+//! - [`duration`]: durations evaluated from the problem's fluents (`E0305`).
 //!
 //! Lints are found in two salsa queries: [`domain_lints`] (what a domain alone
 //! shows) and [`problem_lints`] (what needs a problem and its domain; they may
@@ -102,10 +102,11 @@ pub fn domain_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
 /// The lints of a problem with its domain (some located in the domain).
 #[salsa::tracked(returns(ref))]
 pub fn problem_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
-    let out = Vec::new();
+    let mut out = Vec::new();
     if unit.kind(db) != UnitKind::Problem || !model_is_clean(db, unit) {
         return out;
     }
+    out.extend(duration::duration_lints(db, unit));
     out
 }
 
