@@ -81,6 +81,7 @@ pub mod codes {
         UNUSED_CONFLICT = "W0302" "unused-conflict" Warning "a conflict atom that no method of the task can delete";
         TASK_WITHOUT_METHODS = "E0303" "task-without-methods" Error "a task that the model uses has no method: it can never be refined";
         UNUSED_TASK = "W0304" "unused-task" Warning "a task without methods that nothing uses";
+        DURATION_NOT_EVALUABLE = "E0305" "duration-not-evaluable" Error "a duration cannot be evaluated from the problem's numeric fluents";
     }
 }
 

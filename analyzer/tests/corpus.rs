@@ -36,6 +36,16 @@ fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// Genuine defects of corpus files that hipop finds: (file, code, why). The
+/// corpus is never edited, so each is expected, and must still be reported
+/// (a change that stops finding it has lost something).
+const KNOWN_DEFECTS: &[(&str, &str, &str)] = &[(
+    "hddl2.1/satellite/domain.hddl",
+    "E0305",
+    "its problem gives `turn-time` between image directions only, but the satellite starts \
+     pointing at `star0`, a calibration direction: no turn from or to one has a duration",
+)];
+
 #[test]
 fn corpus_files_check_without_errors() {
     let Some(dir) = corpora() else {
@@ -58,6 +68,7 @@ fn corpus_files_check_without_errors() {
     let mut warnings = Vec::new();
     let mut not_models = Vec::new();
     let mut pddl_plus = 0;
+    let mut known: Vec<&str> = Vec::new();
     for (rel, text, file) in &handles {
         assert_eq!(
             &hipop_analyzer::syntax::parse(text).text(),
@@ -86,8 +97,10 @@ fn corpus_files_check_without_errors() {
             continue;
         }
         for d in &diags {
-            match d.severity {
-                Severity::Error => failures.push(line(d)),
+            let defect = KNOWN_DEFECTS.iter().find(|(f, code, _)| f == rel && *code == d.code.id);
+            match (d.severity, defect) {
+                (Severity::Error, Some((f, _, _))) => known.push(f),
+                (Severity::Error, None) => failures.push(line(d)),
                 _ => warnings.push(line(d)),
             }
         }
@@ -100,6 +113,9 @@ fn corpus_files_check_without_errors() {
         not_models
     );
     assert!(failures.is_empty(), "{} errors in real files:\n{}", failures.len(), failures.join("\n"));
+    for (file, code, why) in KNOWN_DEFECTS {
+        assert!(known.contains(file), "{file}: the known defect {code} is no longer reported ({why})");
+    }
     assert_eq!(pddl_plus, 4, "the VAL samples have four PDDL+ domains");
     insta::assert_snapshot!("corpus_warnings", warnings.join("\n"));
 }

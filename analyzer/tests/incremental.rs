@@ -123,3 +123,37 @@ fn editing_one_init_fact_rechecks_one_chunk() {
     assert_eq!(executed(&log, "check_item"), 1, "{:?}", log.lock().unwrap());
     assert_eq!(executed(&log, "lower_item"), 1, "{:?}", log.lock().unwrap());
 }
+
+#[test]
+fn grounding_reruns_only_when_what_it_reads_changes() {
+    let domain = "(define (domain m) (:requirements :typing :durative-actions :numeric-fluents)
+  (:types robot waypoint)
+  (:predicates (at-r ?r - robot ?w - waypoint) (road ?a ?b - waypoint))
+  (:functions (distance ?a ?b - waypoint))
+  (:durative-action move :parameters (?r - robot ?a ?b - waypoint)
+    :duration (= ?duration (distance ?a ?b))
+    :condition (and (at start (at-r ?r ?a)) (over all (road ?a ?b)))
+    :effect (and (at start (not (at-r ?r ?a))) (at end (at-r ?r ?b)))))
+";
+    let problem = "(define (problem p) (:domain m) (:objects r1 - robot a b - waypoint)
+  (:init (at-r r1 a) (road a b) (= (distance a b) 12.5))
+  (:goal (at-r r1 b)))
+";
+    let (mut host, log) = host();
+    host.set_file_text("d.pddl", domain);
+    let p = host.set_file_text("p.pddl", problem);
+    assert!(host.analysis().diagnostics(p).unwrap().is_empty());
+    assert_eq!(executed(&log, "ground"), 1, "{:?}", log.lock().unwrap());
+    log.lock().unwrap().clear();
+
+    // The goal is not read by grounding.
+    host.apply_edits("p.pddl", vec![edit_at(problem, "(:goal (at-r r1 b)", 16, 1, "a")]).unwrap();
+    assert!(host.analysis().diagnostics(p).unwrap().is_empty());
+    assert_eq!(executed(&log, "ground"), 0, "{:?}", log.lock().unwrap());
+    log.lock().unwrap().clear();
+
+    // A value of `:init` is.
+    host.apply_edits("p.pddl", vec![edit_at(problem, "12.5", 0, 4, "13.5")]).unwrap();
+    assert!(host.analysis().diagnostics(p).unwrap().is_empty());
+    assert_eq!(executed(&log, "ground"), 1, "{:?}", log.lock().unwrap());
+}

@@ -6,6 +6,11 @@
 //!   move durations, as pure functions.
 //! - [`conflicts`]: conflicts of abstract actions (E0301, W0302) and tasks
 //!   without methods (E0303, W0304).
+//! - [`state`], [`ground`], [`reach`]: the ground problem (objects, atoms, the
+//!   initial state, the instances of actions, tasks and methods) and relaxed
+//!   reachability, the base of the problem lints.
+//!   `instantiate.rs` is the engine behind [`ground`].
+//! - [`duration`]: durations evaluated from the problem's fluents (`E0305`).
 //!
 //! Lints are found in two salsa queries: [`domain_lints`] (what a domain alone
 //! shows) and [`problem_lints`] (what needs a problem and its domain; they may
@@ -18,8 +23,13 @@
 //! model they reason on would not be the one the user wrote.
 
 pub mod conflicts;
+pub mod duration;
 pub mod geometry;
+pub mod ground;
+mod instantiate;
 pub mod lifted;
+pub mod reach;
+pub mod state;
 
 use crate::db::{Db, Unit, UnitKind};
 use crate::diagnostic::{Code, Diagnostic, Fix, Related, Severity};
@@ -100,10 +110,11 @@ pub fn domain_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
 /// The lints of a problem with its domain (some located in the domain).
 #[salsa::tracked(returns(ref))]
 pub fn problem_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
-    let out = Vec::new();
+    let mut out = Vec::new();
     if unit.kind(db) != UnitKind::Problem || !model_is_clean(db, unit) {
         return out;
     }
+    out.extend(duration::duration_lints(db, unit));
     out
 }
 

@@ -1,0 +1,886 @@
+//! Grounding: the instances of the actions and tasks of a problem's domain
+//! over the problem's objects and the domain's constants that types, equality
+//! constraints, static predicates and relaxed reachability allow; and the
+//! instances of the methods (a separate query, [`ground_methods`], computed
+//! only when a lint asks for it).
+//!
+//! A predicate is *static* when no action or task adds or deletes it and no
+//! timed initial literal sets it: its atoms are true exactly when `:init` says
+//! so, for the whole plan. Static preconditions do not appear in the ground
+//! operators; a negative static precondition must be false in `:init`.
+//!
+//! Only instances whose positive preconditions are all reachable from the
+//! initial state (ignoring deletes and negative preconditions) are kept: the
+//! others are in no plan. They are found together, by the semi-naive
+//! fixpoint of [`super::instantiate`]; static predicates alone would keep 2.4
+//! times as many instances on the IPC 2002 temporal problems (6 to 10 times
+//! on Depots). Relaxed reachability restricted to some operators (allowed
+//! actions) is [`super::reach::reachable`].
+//!
+//! Numeric conditions are ignored (they only restrict, so the result is an
+//! over-approximation). What the STRIPS view cannot express (see
+//! [`super::lifted`]) is left out of the ground operator and flagged with
+//! [`GroundOperator::unsupported`], so that lints can stay conservative.
+//!
+//! Grounding is bounded ([`Limits`]): past the limits it stops and says so
+//! ([`Ground::truncated`]) rather than hang or exhaust memory.
+
+use std::ops::ControlFlow;
+
+use super::duration::{Compiler as DurationCompiler, DurationIssue, Env, Val};
+use super::instantiate::{
+    Arg, CAtom, Compiler, Facts, OpInput, Preds, Stop, fixpoint, instances_over, value,
+};
+use super::lifted::{Duration, LTerm, OperatorKind, method_schema, operator};
+use super::state::{AtomId, Atoms, FuncId, InitialState, Interner, ObjId, Objects, PredId, initial_state};
+use crate::db::{Db, Item, Section, Unit, UnitKind, lower_item};
+use crate::model::{Effect, ItemData, Str};
+use crate::semantics::check::domain_for;
+use crate::semantics::symbols::{Loc, domain_symbols, problem_symbols};
+
+/// Bounds on the work of grounding.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Parameter values tried, over all operators (or all methods).
+    pub candidates: u64,
+    /// Ground operators kept.
+    pub operators: usize,
+    /// Ground instances kept per method.
+    pub method_instances: usize,
+}
+
+impl Limits {
+    pub const DEFAULT: Limits =
+        Limits { candidates: 2_000_000, operators: 200_000, method_instances: 10_000 };
+}
+
+/// One instance of an action or a task. Its lists (arguments, preconditions,
+/// effects) live in one array of the [`Ground`], read with [`Ground::args`],
+/// [`Ground::pre`], [`Ground::neg_pre`], [`Ground::add`] and [`Ground::del`]:
+/// a large problem has hundreds of thousands of instances, and five
+/// allocations each would dominate grounding.
+#[derive(Debug, Clone, PartialEq, salsa::SalsaValue)]
+pub struct GroundOperator<'db> {
+    /// The action or task item.
+    pub op: Item<'db>,
+    /// Index of its [`Schema`] in [`Ground::schemas`].
+    pub schema: u32,
+    /// The duration: 0 for an `:action`; `None` when it has no single value (a
+    /// task without duration, bounds only, a fluent that effects change, or
+    /// not evaluable, which is in [`Ground::duration_issues`]).
+    pub duration: Option<f64>,
+    /// The operator has constructs outside the STRIPS view: the lists may
+    /// miss atoms (see [`super::lifted::Operator::unsupported`]).
+    pub unsupported: bool,
+    /// Start of its lists in [`Ground::lists`], and where each ends (relative):
+    /// arguments, pre, neg_pre, add, del.
+    at: u32,
+    ends: [u32; 5],
+}
+
+/// An action or task of the domain and where its instances are.
+#[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
+pub struct Schema<'db> {
+    pub item: Item<'db>,
+    pub name: Str,
+    pub kind: OperatorKind,
+    /// Its instances: `Ground::operators[start..end]`, sorted by arguments.
+    pub start: u32,
+    pub end: u32,
+    /// Predicates it adds with an argument grounding cannot name (a `forall`
+    /// variable, an object fluent): any atom of them may become true.
+    pub wild_add: Vec<PredId>,
+    pub unsupported: bool,
+}
+
+/// The ground problem.
+#[derive(Debug, Clone, PartialEq, Default, salsa::SalsaValue)]
+pub struct Ground<'db> {
+    pub objects: Objects<'db>,
+    pub predicates: Interner,
+    pub functions: Interner,
+    /// Every atom met: in `:init`, then in the ground operators.
+    pub atoms: Atoms,
+    pub init: InitialState<'db>,
+    /// Whether each predicate is static, by id.
+    pub static_preds: Vec<bool>,
+    /// Predicates whose atoms grounding cannot follow, by id: derived ones
+    /// (hipop runs no axioms) and those some operator adds with a term it
+    /// cannot name. Preconditions on them are assumed reachable.
+    pub untracked_preds: Vec<bool>,
+    /// Whether each function is changed by some effect, by id.
+    pub dynamic_funcs: Vec<bool>,
+    /// The domain's actions and tasks, in the order written.
+    pub schemas: Vec<Schema<'db>>,
+    /// The reachable instances, grouped by schema.
+    pub operators: Vec<GroundOperator<'db>>,
+    /// The lists of the ground operators, back to back.
+    lists: Vec<u32>,
+    /// Whether each atom is reachable with every operator, by id.
+    pub reachable: Vec<bool>,
+    /// Durations that cannot be evaluated, one per operator.
+    pub duration_issues: Vec<DurationIssue<'db>>,
+    /// Grounding stopped at a limit: `operators` is incomplete.
+    pub truncated: bool,
+}
+
+impl<'db> Ground<'db> {
+    /// The instances of an action or task item.
+    pub fn operators_of(&self, item: Item<'db>) -> &[GroundOperator<'db>] {
+        self.schemas
+            .iter()
+            .find(|s| s.item == item)
+            .map_or(&[], |s| &self.operators[s.start as usize..s.end as usize])
+    }
+
+    fn list(&self, o: &GroundOperator<'db>, k: usize) -> &[u32] {
+        let start = if k == 0 { 0 } else { o.ends[k - 1] };
+        let (a, b) = (o.at as usize + start as usize, o.at as usize + o.ends[k] as usize);
+        self.lists.get(a..b).unwrap_or(&[])
+    }
+
+    /// The parameters' values of an instance, in declaration order.
+    pub fn args(&self, o: &GroundOperator<'db>) -> &[ObjId] {
+        self.list(o, 0)
+    }
+
+    /// Positive preconditions on predicates that are not static (sorted, no duplicates).
+    pub fn pre(&self, o: &GroundOperator<'db>) -> &[AtomId] {
+        self.list(o, 1)
+    }
+
+    /// Negative preconditions on predicates that are not static (sorted).
+    pub fn neg_pre(&self, o: &GroundOperator<'db>) -> &[AtomId] {
+        self.list(o, 2)
+    }
+
+    /// Add effects (sorted).
+    pub fn add(&self, o: &GroundOperator<'db>) -> &[AtomId] {
+        self.list(o, 3)
+    }
+
+    /// Delete effects (sorted).
+    pub fn del(&self, o: &GroundOperator<'db>) -> &[AtomId] {
+        self.list(o, 4)
+    }
+
+    pub fn is_static(&self, pred: PredId) -> bool {
+        self.static_preds.get(pred as usize).copied().unwrap_or(false)
+    }
+
+    pub fn is_reachable(&self, atom: AtomId) -> bool {
+        self.reachable.get(atom as usize).copied().unwrap_or(false)
+    }
+
+    /// An atom as text: `(at r1 a)`.
+    pub fn show_atom(&self, atom: AtomId) -> String {
+        show(self.predicates.name(self.atoms.pred(atom)), self.atoms.args(atom), &self.objects)
+    }
+
+    /// An operator instance as text: `(move r1 a b)`.
+    pub fn show_operator(&self, op: &GroundOperator<'db>) -> String {
+        let name = self.schemas.get(op.schema as usize).map_or("?", |s| s.name.as_str());
+        show(name, self.args(op), &self.objects)
+    }
+}
+
+pub(crate) fn show(name: &str, args: &[ObjId], objects: &Objects<'_>) -> String {
+    let mut s = format!("({name}");
+    for &a in args {
+        s.push(' ');
+        s.push_str(objects.name(a));
+    }
+    s.push(')');
+    s
+}
+
+/// Grounds a problem with the default [`Limits`].
+#[salsa::tracked(returns(ref))]
+pub fn ground<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Ground<'db> {
+    ground_with(db, problem, Limits::DEFAULT)
+}
+
+/// Grounds a problem within `limits`. An empty result for what is not a
+/// problem with a known domain.
+pub fn ground_with<'db>(db: &'db dyn Db, problem: Unit<'db>, limits: Limits) -> Ground<'db> {
+    let mut g = Ground::default();
+    if problem.kind(db) != UnitKind::Problem {
+        return g;
+    }
+    let Some(domain) = domain_for(db, problem) else { return g };
+    let dom = domain_symbols(db, domain);
+    g.objects = Objects::new(dom, problem_symbols(db, problem));
+    // Stable ids: the domain's names sorted, then whatever `:init` adds.
+    let mut names: Vec<&Str> = dom.predicates.keys().collect();
+    names.sort();
+    for n in names {
+        g.predicates.intern(n);
+    }
+    let mut names: Vec<&Str> = dom.functions.keys().collect();
+    names.sort();
+    for n in names {
+        g.functions.intern(n);
+    }
+    g.init = initial_state(db, problem, &g.objects, &mut g.predicates, &mut g.functions, &mut g.atoms);
+
+    let ops: Vec<(Item<'db>, &super::lifted::Operator)> = domain
+        .items(db)
+        .iter()
+        .filter(|i| matches!(i.section(db), Section::Action | Section::Task))
+        .filter_map(|&i| operator(db, i).as_ref().map(|op| (i, op)))
+        .collect();
+
+    // Static predicates: no effect and no timed literal touches them.
+    let mut touched: Vec<PredId> = Vec::new();
+    let mut wild: Vec<PredId> = Vec::new();
+    for (_, op) in &ops {
+        for a in op.add.iter().chain(&op.del) {
+            touched.push(g.predicates.intern(&a.pred));
+        }
+        for a in op.add.iter().filter(|a| a.args.iter().any(|t| matches!(t, LTerm::Free(_)))) {
+            wild.push(g.predicates.intern(&a.pred));
+        }
+    }
+    touched.extend(g.init.timed.iter().map(|t| g.atoms.pred(t.atom)));
+    // Derived predicates, from their `(:derived …)` items: the symbol table
+    // records the `:predicates` declaration when there is one.
+    let derived: Vec<PredId> = domain
+        .items(db)
+        .iter()
+        .filter(|i| i.section(db) == Section::Derived)
+        .filter_map(|&i| match &lower_item(db, i).data {
+            ItemData::Derived(atom, _, _) => Some(g.predicates.intern(&atom.pred.key)),
+            _ => None,
+        })
+        .collect();
+    let n_preds = g.predicates.len();
+    g.static_preds = vec![true; n_preds];
+    g.untracked_preds = vec![false; n_preds];
+    let mut is_derived = vec![false; n_preds];
+    for &p in touched.iter().chain(&derived) {
+        g.static_preds[p as usize] = false;
+    }
+    for &p in wild.iter().chain(&derived) {
+        g.untracked_preds[p as usize] = true;
+    }
+    for &p in &derived {
+        is_derived[p as usize] = true;
+    }
+
+    // Functions some effect changes: their values in `:init` hold only at the start.
+    let mut changed: Vec<FuncId> = Vec::new();
+    for &(item, _) in &ops {
+        let effect = match &lower_item(db, item).data {
+            ItemData::Action(a) => a.effect.as_ref(),
+            ItemData::Task(t) => t.effect.as_ref(),
+            _ => None,
+        };
+        numeric_targets(effect, &mut g.functions, &mut changed);
+    }
+    g.dynamic_funcs = vec![false; g.functions.len()];
+    for f in changed {
+        g.dynamic_funcs[f as usize] = true;
+    }
+
+    // Compile every operator.
+    struct Compiled {
+        spec_add: OpInput,
+        pre: Vec<CAtom>,
+        neg: Vec<CAtom>,
+        del: Vec<CAtom>,
+        wild_add: Vec<PredId>,
+        unsupported: bool,
+        duration: Option<super::duration::CExpr>,
+    }
+    let mut compiled = Vec::with_capacity(ops.len());
+    for (_, op) in &ops {
+        let mut cx = Compiler {
+            objects: &g.objects,
+            preds: Preds::Intern(&mut g.predicates),
+            static_preds: &g.static_preds,
+            untracked: &g.untracked_preds,
+            derived: &is_derived,
+            unsupported: !op.unsupported.is_empty(),
+        };
+        let spec = cx.spec(&op.params, &op.pre);
+        let pre = cx.atoms(&op.pre.pos, false);
+        let neg = cx.atoms(&op.pre.neg, false);
+        let add = cx.atoms(&op.add, true);
+        let del = cx.atoms(&op.del, true);
+        let wild_add = op
+            .add
+            .iter()
+            .filter(|a| a.args.iter().any(|t| matches!(t, LTerm::Free(_))))
+            .filter_map(|a| cx.pred(&a.pred))
+            .collect();
+        let unsupported = cx.unsupported;
+        let duration = DurationCompiler {
+            params: &op.params,
+            objects: &g.objects,
+            funcs: &mut g.functions,
+            dynamic: &g.dynamic_funcs,
+        }
+        .duration(&op.duration);
+        compiled.push(Compiled {
+            spec_add: OpInput { spec, add },
+            pre,
+            neg,
+            del,
+            wild_add,
+            unsupported,
+            duration,
+        });
+    }
+    g.static_preds.resize(g.predicates.len(), true);
+    g.untracked_preds.resize(g.predicates.len(), false);
+
+    // Instantiate them with relaxed reachability.
+    let inputs: Vec<&OpInput> = compiled.iter().map(|c| &c.spec_add).collect();
+    let mut start: Vec<AtomId> = g.init.facts.iter().map(|(a, _)| *a).collect();
+    start.extend(g.init.timed.iter().filter(|t| t.positive).map(|t| t.atom));
+    let mut budget = limits.candidates;
+    let fix = fixpoint(&inputs, &mut g.atoms, &start, g.init.truth().to_vec(), &mut budget, limits.operators);
+    g.truncated = fix.truncated;
+
+    // Build the ground operators, schema by schema, instances sorted by arguments.
+    let mut by_op: Vec<Vec<u32>> = vec![Vec::new(); ops.len()];
+    for k in 0..fix.instances.len() {
+        by_op[fix.instances.get(k).0].push(k as u32);
+    }
+    let mut key = Vec::new();
+    for (schema, (((item, op), c), mut found)) in ops.iter().zip(&compiled).zip(by_op).enumerate() {
+        found.sort_unstable_by(|&x, &y| {
+            let (a, b) = (fix.instances.get(x as usize).1, fix.instances.get(y as usize).1);
+            a.iter().zip(b).map(|(p, q)| p.cmp(q)).find(|o| o.is_ne()).unwrap_or(a.len().cmp(&b.len()))
+        });
+        let start = g.operators.len() as u32;
+        let fixed = match (&op.duration, op.kind) {
+            (Duration::None, OperatorKind::Action) => Some(0.0),
+            _ => None,
+        };
+        let mut issue: Option<DurationIssue<'db>> = None;
+        let Ground { atoms, init, objects, functions, operators, lists, .. } = &mut g;
+        let env = Env { init, objects, funcs: functions };
+        for k in found {
+            let args = fix.instances.get(k as usize).1;
+            let at = lists.len();
+            lists.extend_from_slice(args);
+            let mut ends = [0u32; 5];
+            ends[0] = args.len() as u32;
+            for (n, l) in [&c.pre, &c.neg, &c.spec_add.add, &c.del].into_iter().enumerate() {
+                let from = lists.len();
+                for a in l {
+                    a.key(args, &mut key);
+                    lists.push(atoms.intern(&key));
+                }
+                lists[from..].sort_unstable();
+                let mut kept = from;
+                for i in from..lists.len() {
+                    if kept == from || lists[i] != lists[kept - 1] {
+                        lists[kept] = lists[i];
+                        kept += 1;
+                    }
+                }
+                lists.truncate(kept);
+                ends[n + 1] = (lists.len() - at) as u32;
+            }
+            let duration = match &c.duration {
+                None => fixed,
+                Some(e) => match env.eval(e, args) {
+                    Ok(Val::Known(v)) => Some(v),
+                    Ok(Val::Dynamic) => None,
+                    Err(f) => {
+                        match &mut issue {
+                            Some(i) => i.count += 1,
+                            None => {
+                                issue = Some(DurationIssue {
+                                    loc: Loc { item: *item, span: f.span },
+                                    operator: op.name.to_string(),
+                                    instance: show(&op.name, args, objects),
+                                    why: f.why,
+                                    fact: f.fact,
+                                    count: 1,
+                                })
+                            }
+                        }
+                        None
+                    }
+                },
+            };
+            operators.push(GroundOperator {
+                op: *item,
+                schema: schema as u32,
+                duration,
+                unsupported: c.unsupported,
+                at: at as u32,
+                ends,
+            });
+        }
+        g.duration_issues.extend(issue);
+        g.schemas.push(Schema {
+            item: *item,
+            name: op.name.clone(),
+            kind: op.kind,
+            start,
+            end: g.operators.len() as u32,
+            wild_add: c.wild_add.clone(),
+            unsupported: c.unsupported,
+        });
+    }
+    g.reachable = fix.reached;
+    g.reachable.resize(g.atoms.len(), false);
+    g
+}
+
+/// The functions an effect changes.
+fn numeric_targets(e: Option<&Effect>, funcs: &mut Interner, out: &mut Vec<FuncId>) {
+    let Some(e) = e else { return };
+    match e {
+        Effect::Numeric(_, f, _, _) => out.push(funcs.intern(&f.func.key)),
+        Effect::And(es, _) => es.iter().for_each(|e| numeric_targets(Some(e), funcs, out)),
+        Effect::Forall(_, e, _) | Effect::When(_, e, _) | Effect::Timed(_, e, _) => {
+            numeric_targets(Some(e), funcs, out)
+        }
+        Effect::Add(_) | Effect::Del(..) => {}
+    }
+}
+
+/// One instance of a method.
+#[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
+pub struct GroundMethod<'db> {
+    pub method: Item<'db>,
+    /// The method's parameters' values, in declaration order.
+    pub args: Box<[ObjId]>,
+    /// The task it refines, with its arguments.
+    pub task: (Str, Box<[ObjId]>),
+    /// Its subtasks (actions or tasks) in the order written.
+    pub subtasks: Vec<(Str, Box<[ObjId]>)>,
+}
+
+/// The instances of a problem's methods.
+#[derive(Debug, Clone, PartialEq, Eq, Default, salsa::SalsaValue)]
+pub struct GroundMethods<'db> {
+    pub methods: Vec<GroundMethod<'db>>,
+    /// Methods whose instances were cut at [`Limits::method_instances`], or
+    /// where the candidate budget ran out (every later method is then skipped too).
+    pub truncated: Vec<Item<'db>>,
+    /// Methods whose task or subtasks have terms grounding cannot name (an
+    /// object fluent): not grounded.
+    pub skipped: Vec<Item<'db>>,
+}
+
+/// Grounds a problem's methods with the default [`Limits`]: separate from
+/// [`ground`] because methods with many free parameters are costly, and only
+/// some lints need them.
+#[salsa::tracked(returns(ref))]
+pub fn ground_methods<'db>(db: &'db dyn Db, problem: Unit<'db>) -> GroundMethods<'db> {
+    ground_methods_with(db, problem, ground(db, problem), Limits::DEFAULT)
+}
+
+/// Grounds a problem's methods over `g` within `limits`: the instances whose
+/// types fit, whose (in)equalities and static preconditions hold and whose
+/// other positive preconditions are relaxed-reachable. Which subtasks can be
+/// decomposed is not considered.
+pub fn ground_methods_with<'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    g: &Ground<'db>,
+    limits: Limits,
+) -> GroundMethods<'db> {
+    let mut out = GroundMethods::default();
+    let Some(domain) = domain_for(db, problem).filter(|_| problem.kind(db) == UnitKind::Problem) else {
+        return out;
+    };
+    let facts = Facts::from_reached(&g.reachable, g.init.truth().to_vec(), &g.atoms);
+    let mut budget = limits.candidates;
+    let mut exhausted = false;
+    for &item in domain.items(db).iter().filter(|i| i.section(db) == Section::Method) {
+        let Some(m) = method_schema(db, item) else { continue };
+        let Some((task, task_args, _)) = &m.task else { continue };
+        if exhausted {
+            out.truncated.push(item);
+            continue;
+        }
+        let mut cx = Compiler {
+            objects: &g.objects,
+            preds: Preds::Get(&g.predicates),
+            static_preds: &g.static_preds,
+            untracked: &g.untracked_preds,
+            derived: &[],
+            unsupported: false,
+        };
+        let spec = cx.spec(&m.params, &m.pre);
+        let args = |ts: &[LTerm]| ts.iter().map(|t| cx.arg(t)).collect::<Option<Vec<Arg>>>();
+        let task_args = args(task_args);
+        let subtasks: Option<Vec<(Str, Vec<Arg>)>> =
+            m.subtasks.iter().map(|s| args(&s.args).map(|a| (s.name.clone(), a))).collect();
+        let (Some(task_args), Some(subtasks)) = (task_args, subtasks) else {
+            out.skipped.push(item);
+            continue;
+        };
+        let mut count = 0;
+        let methods = &mut out.methods;
+        let flow = instances_over(&spec, &g.atoms, &facts, &mut budget, &mut |binding| {
+            if count >= limits.method_instances {
+                return ControlFlow::Break(());
+            }
+            count += 1;
+            let ground = |a: &[Arg]| a.iter().map(|x| value(*x, binding)).collect::<Box<[ObjId]>>();
+            methods.push(GroundMethod {
+                method: item,
+                args: binding.into(),
+                task: (task.clone(), ground(&task_args)),
+                subtasks: subtasks.iter().map(|(n, a)| (n.clone(), ground(a))).collect(),
+            });
+            ControlFlow::Continue(())
+        });
+        match flow {
+            ControlFlow::Continue(()) => {}
+            ControlFlow::Break(stop) => {
+                out.truncated.push(item);
+                exhausted = stop == Stop::Budget;
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::AnalysisHost;
+    use crate::db::file_units;
+    use crate::verify::reach::reachable;
+
+    /// A host with a domain and a problem; `f` gets the problem's unit.
+    fn with_problem<T>(domain: &str, problem: &str, f: impl FnOnce(&dyn Db, Unit<'_>) -> T) -> T {
+        let mut host = AnalysisHost::new();
+        host.set_file_text("d/domain.pddl", domain);
+        let p = host.set_file_text("d/problem.pddl", problem);
+        let db = host.db();
+        let unit = file_units(db, p)[0];
+        f(db, unit)
+    }
+
+    /// The instances of every operator, as text, sorted.
+    fn instances(g: &Ground<'_>) -> Vec<String> {
+        let mut v: Vec<String> = g.operators.iter().map(|o| g.show_operator(o)).collect();
+        v.sort();
+        v
+    }
+
+    fn ground_texts(domain: &str, problem: &str) -> Vec<String> {
+        with_problem(domain, problem, |db, p| instances(ground(db, p)))
+    }
+
+    const TYPES: &str = "(define (domain t) (:requirements :typing :equality)
+      (:types vehicle place - object truck car - vehicle tank - truck)
+      (:constants depot - place)
+      (:predicates (at ?v - vehicle ?p - place) (ok ?x - (either truck place)) (done))
+      (:action park :parameters (?v - truck ?p - place) :precondition (at ?v ?p) :effect (done))
+      (:action mark :parameters (?x - (either truck place)) :effect (ok ?x))
+      (:action home :parameters (?v - vehicle) :precondition (at ?v depot) :effect (done)))";
+
+    #[test]
+    fn types_either_subtypes_and_constants() {
+        let got = ground_texts(
+            TYPES,
+            "(define (problem p) (:domain t) (:objects t1 - truck k1 - tank c1 - car a - place)
+              (:init (at t1 a) (at k1 depot) (at c1 depot)))",
+        );
+        assert_eq!(
+            got,
+            [
+                "(home c1)",
+                "(home k1)",
+                "(mark a)",
+                "(mark depot)",
+                "(mark k1)",
+                "(mark t1)",
+                // `at` is static here: parking needs the truck where it is.
+                "(park k1 depot)",
+                "(park t1 a)",
+            ]
+        );
+    }
+
+    #[test]
+    fn equality_constraints() {
+        let d = "(define (domain e) (:requirements :equality)
+          (:predicates (p ?a ?b))
+          (:action diff :parameters (?a ?b) :precondition (not (= ?a ?b)) :effect (p ?a ?b))
+          (:action same :parameters (?a ?b) :precondition (= ?a ?b) :effect (p ?a ?b)))";
+        let got = ground_texts(d, "(define (problem p) (:domain e) (:objects x y) (:init))");
+        assert_eq!(got, ["(diff x y)", "(diff y x)", "(same x x)", "(same y y)"]);
+    }
+
+    #[test]
+    fn static_predicates_prune_and_are_left_out() {
+        let d = "(define (domain s) (:requirements :negative-preconditions)
+          (:predicates (at ?w) (adjacent ?a ?b) (blocked ?w))
+          (:action move :parameters (?a ?b)
+            :precondition (and (at ?a) (adjacent ?a ?b) (not (blocked ?b)))
+            :effect (and (not (at ?a)) (at ?b))))";
+        let p = "(define (problem p) (:domain s) (:objects a b c d)
+          (:init (at a) (adjacent a b) (adjacent b c) (adjacent a d) (adjacent c a) (blocked d)))";
+        with_problem(d, p, |db, unit| {
+            let g = ground(db, unit);
+            assert_eq!(instances(g), ["(move a b)", "(move b c)", "(move c a)"]);
+            let adjacent = g.predicates.get("adjacent").unwrap();
+            let blocked = g.predicates.get("blocked").unwrap();
+            let at = g.predicates.get("at").unwrap();
+            assert!(g.is_static(adjacent) && g.is_static(blocked) && !g.is_static(at));
+            // Only `at` remains in the ground lists.
+            let o = &g.operators[0];
+            let shown = |l: &[AtomId]| l.iter().map(|&a| g.show_atom(a)).collect::<Vec<_>>();
+            assert_eq!(shown(g.pre(o)), ["(at a)"]);
+            assert_eq!(shown(g.add(o)), ["(at b)"]);
+            assert_eq!(shown(g.del(o)), ["(at a)"]);
+            assert!(g.neg_pre(o).is_empty());
+        });
+    }
+
+    #[test]
+    fn only_reachable_instances_are_kept() {
+        let d = "(define (domain r)
+          (:predicates (at ?w) (road ?a ?b) (visited ?w))
+          (:action go :parameters (?a ?b) :precondition (and (at ?a) (road ?a ?b))
+            :effect (and (not (at ?a)) (at ?b) (visited ?b))))";
+        // `d` is on a road, but nothing reaches `c`.
+        let p = "(define (problem p) (:domain r) (:objects a b c d)
+          (:init (at a) (road a b) (road b a) (road c d)))";
+        with_problem(d, p, |db, unit| {
+            let g = ground(db, unit);
+            assert_eq!(instances(g), ["(go a b)", "(go b a)"]);
+            let visited = |w: &str| {
+                let id = g.atoms.find(g.predicates.get("visited").unwrap(), &[g.objects.id(w).unwrap()]);
+                id.is_some_and(|a| g.is_reachable(a))
+            };
+            assert!(visited("a") && visited("b") && !visited("d"));
+        });
+    }
+
+    #[test]
+    fn four_parameters_drawn_from_facts() {
+        // The naive product is 3 × 3 × 4 × 4; only the facts' tuples are tried.
+        let d = "(define (domain c) (:types robot wp)
+          (:predicates (at ?r - robot ?w - wp) (visible-com ?r1 ?r2 - robot ?w1 ?w2 - wp) (met ?r1 ?r2 - robot))
+          (:action talk :parameters (?r1 ?r2 - robot ?w1 ?w2 - wp)
+            :precondition (and (at ?r1 ?w1) (at ?r2 ?w2) (visible-com ?r1 ?r2 ?w1 ?w2)) :effect (met ?r1 ?r2)))";
+        let p = "(define (problem p) (:domain c) (:objects r1 r2 r3 - robot a b c d - wp)
+          (:init (at r1 a) (at r2 b) (at r3 c)
+            (visible-com r1 r2 a b) (visible-com r2 r1 b a) (visible-com r1 r3 a d) (visible-com r3 r3 c c)))";
+        let got = ground_texts(d, p);
+        assert_eq!(got, ["(talk r1 r2 a b)", "(talk r2 r1 b a)", "(talk r3 r3 c c)"]);
+    }
+
+    #[test]
+    fn timed_literals_are_not_static_and_count_as_reached() {
+        let d = "(define (domain w) (:requirements :timed-initial-literals)
+          (:predicates (window) (done))
+          (:action act :parameters () :precondition (window) :effect (done)))";
+        let p = "(define (problem p) (:domain w) (:init (at 10 (window)) (at 20 (not (window)))))";
+        with_problem(d, p, |db, unit| {
+            let g = ground(db, unit);
+            assert!(!g.is_static(g.predicates.get("window").unwrap()));
+            assert_eq!(instances(g), ["(act)"]);
+            assert_eq!(g.init.timed.len(), 2);
+            assert!(!g.init.holds(g.init.timed[0].atom));
+        });
+    }
+
+    const DURATIONS: &str = "(define (domain m) (:requirements :typing :durative-actions :numeric-fluents)
+      (:types robot wp)
+      (:predicates (at ?r - robot ?w - wp) (adjacent ?a ?b - wp))
+      (:functions (distance ?a ?b - wp) (speed ?r - robot) (battery ?r - robot))
+      (:durative-action move :parameters (?r - robot ?a ?b - wp)
+        :duration (= ?duration (/ (distance ?a ?b) (speed ?r)))
+        :condition (and (at start (at ?r ?a)) (over all (adjacent ?a ?b)))
+        :effect (and (at start (not (at ?r ?a))) (at end (at ?r ?b)))))";
+
+    fn duration_problem(init: &str) -> String {
+        format!("(define (problem p) (:domain m) (:objects r1 r2 - robot a b c - wp) (:init {init}))")
+    }
+
+    #[test]
+    fn durations_are_evaluated_from_fluents() {
+        let p = duration_problem(
+            "(at r1 a) (at r2 a) (adjacent a b) (adjacent b c) (= (speed r1) 2) (= (speed r2) 0.5)
+             (= (distance a b) 30) (= (distance b c) (- 12 2))",
+        );
+        with_problem(DURATIONS, &p, |db, unit| {
+            let g = ground(db, unit);
+            let durations: Vec<(String, Option<f64>)> =
+                g.operators.iter().map(|o| (g.show_operator(o), o.duration)).collect();
+            let expected = [
+                ("(move r1 a b)", 15.0),
+                ("(move r1 b c)", 5.0),
+                ("(move r2 a b)", 60.0),
+                ("(move r2 b c)", 20.0),
+            ];
+            assert_eq!(durations, expected.map(|(s, d)| (s.to_string(), Some(d))));
+            assert!(g.duration_issues.is_empty());
+            // The value's location is the `=` fact.
+            let speed = g.functions.get("speed").unwrap();
+            let (v, loc) = g.init.fluent(speed, &[g.objects.id("r1").unwrap()]).unwrap();
+            assert_eq!(v, 2.0);
+            assert_eq!(loc.item.section(db), Section::Init);
+        });
+    }
+
+    #[test]
+    fn a_missing_fluent_is_reported_once_per_operator() {
+        let p = duration_problem(
+            "(at r1 a) (at r2 a) (adjacent a b) (adjacent b c) (= (speed r1) 2) (= (speed r2) 1) (= (distance a b) 30)",
+        );
+        with_problem(DURATIONS, &p, |db, unit| {
+            let g = ground(db, unit);
+            assert_eq!(g.duration_issues.len(), 1);
+            let issue = &g.duration_issues[0];
+            assert_eq!(issue.instance, "(move r1 b c)");
+            assert_eq!(issue.why, "`(distance b c)` has no value in `:init`");
+            assert_eq!(issue.count, 2);
+            assert_eq!(issue.fact, None);
+            let none: Vec<bool> = g.operators.iter().map(|o| o.duration.is_none()).collect();
+            assert_eq!(none, [false, true, false, true]);
+        });
+    }
+
+    #[test]
+    fn division_by_zero_is_reported_with_the_fact() {
+        let p = duration_problem("(at r1 a) (adjacent a b) (= (speed r1) 0) (= (distance a b) 30)");
+        with_problem(DURATIONS, &p, |db, unit| {
+            let g = ground(db, unit);
+            let issue = &g.duration_issues[0];
+            assert_eq!(issue.why, "`(/ (distance a b) (speed r1))` divides by zero (`(speed r1)` is 0)");
+            assert!(issue.fact.is_some_and(|f| f.item.section(db) == Section::Init));
+            assert_eq!(g.operators[0].duration, None);
+        });
+    }
+
+    #[test]
+    fn durations_without_a_single_value() {
+        let d = "(define (domain n) (:requirements :durative-actions :numeric-fluents)
+          (:predicates (p) (q))
+          (:functions (fuel) (rate))
+          (:action inst :parameters () :effect (p))
+          (:durative-action bounded :parameters () :duration (<= ?duration (rate)) :condition () :effect (at end (q)))
+          (:durative-action refuel :parameters () :duration (= ?duration (/ (- 10 (fuel)) (rate)))
+            :condition () :effect (at end (increase (fuel) 1))))";
+        // `fuel` changes: its value (even absent) gives no single duration, and no issue.
+        let p = "(define (problem p) (:domain n) (:init (= (rate) 2)))";
+        with_problem(d, p, |db, unit| {
+            let g = ground(db, unit);
+            let durations: Vec<Option<f64>> = g.operators.iter().map(|o| o.duration).collect();
+            assert_eq!(durations, [Some(0.0), None, None]);
+            assert!(g.duration_issues.is_empty());
+            assert!(g.dynamic_funcs[g.functions.get("fuel").unwrap() as usize]);
+        });
+    }
+
+    #[test]
+    fn reachability_with_a_filter() {
+        let d = "(define (domain f)
+          (:predicates (a) (b) (c) (d))
+          (:action ab :parameters () :precondition (a) :effect (b))
+          (:action bc :parameters () :precondition (b) :effect (c))
+          (:action cd :parameters () :precondition (and (b) (c)) :effect (d)))";
+        let p = "(define (problem p) (:domain f) (:init (a)))";
+        with_problem(d, p, |db, unit| {
+            let g = ground(db, unit);
+            assert_eq!(g.operators.len(), 3);
+            let atom = |n: &str| g.atoms.find(g.predicates.get(n).unwrap(), &[]).unwrap();
+            let all = reachable(g, |_| true);
+            assert!(["a", "b", "c", "d"].iter().all(|n| all.atom(atom(n))));
+            assert!((0..3).all(|i| all.operator(i)));
+            let bc = g.schemas[1].item;
+            let some = reachable(g, |o| o.op != bc);
+            assert!(some.atom(atom("b")) && !some.atom(atom("c")) && !some.atom(atom("d")));
+            assert_eq!(some.operators, [true, false, false]);
+        });
+    }
+
+    #[test]
+    fn limits_truncate_instead_of_hanging() {
+        let d = "(define (domain big) (:predicates (p ?a ?b ?c ?d))
+          (:action make :parameters (?a ?b ?c ?d) :effect (p ?a ?b ?c ?d))
+          (:task t :parameters (?a ?b))
+          (:method m :parameters (?a ?b ?c ?d) :task (t ?a ?b) :subtasks (make ?a ?b ?c ?d)))";
+        let objects: Vec<String> = (0..40).map(|i| format!("o{i}")).collect();
+        let p = format!("(define (problem p) (:domain big) (:objects {}) (:init))", objects.join(" "));
+        with_problem(d, &p, |db, unit| {
+            // 40⁴ = 2,560,000 candidate instances of `make`.
+            let limits = Limits { candidates: 100_000, operators: 1_000_000, method_instances: 10 };
+            let g = ground_with(db, unit, limits);
+            assert!(g.truncated);
+            assert!(g.operators.len() < 100_000);
+            let limits = Limits { candidates: 10_000_000, operators: 5_000, method_instances: 10 };
+            let g = ground_with(db, unit, limits);
+            assert!(g.truncated);
+            assert_eq!(g.operators_of(g.schemas[0].item).len(), 5_000);
+            let m = ground_methods_with(db, unit, &g, limits);
+            assert_eq!(m.methods.len(), 10);
+            assert_eq!(m.truncated.len(), 1);
+        });
+    }
+
+    #[test]
+    fn methods_are_grounded_with_their_task_and_subtasks() {
+        let d = "(define (domain h) (:requirements :typing :hierarchy)
+          (:types robot wp)
+          (:predicates (at ?r - robot ?w - wp) (road ?a ?b - wp))
+          (:task goto :parameters (?r - robot ?w - wp))
+          (:action move :parameters (?r - robot ?a ?b - wp) :precondition (and (at ?r ?a) (road ?a ?b))
+            :effect (and (not (at ?r ?a)) (at ?r ?b)))
+          (:method direct :parameters (?r - robot ?a ?b - wp) :task (goto ?r ?b)
+            :precondition (road ?a ?b) :subtasks (move ?r ?a ?b)))";
+        let p = "(define (problem p) (:domain h) (:objects r - robot a b c - wp)
+          (:init (at r a) (road a b) (road b c)))";
+        with_problem(d, p, |db, unit| {
+            let g = ground(db, unit);
+            let m = ground_methods(db, unit);
+            let shown: Vec<String> = m
+                .methods
+                .iter()
+                .map(|gm| {
+                    let names = |args: &[ObjId]| {
+                        args.iter().map(|&o| g.objects.name(o)).collect::<Vec<_>>().join(" ")
+                    };
+                    format!(
+                        "{} {} -> {}",
+                        gm.task.0,
+                        names(&gm.task.1),
+                        gm.subtasks[0].0.clone() + " " + &names(&gm.subtasks[0].1)
+                    )
+                })
+                .collect();
+            assert_eq!(shown, ["goto r b -> move r a b", "goto r c -> move r b c"]);
+            assert!(m.truncated.is_empty());
+        });
+    }
+
+    #[test]
+    fn derived_preconditions_are_assumed_reachable() {
+        let d = "(define (domain x) (:requirements :derived-predicates)
+          (:predicates (p ?a) (q ?a) (ready ?a))
+          (:derived (ready ?a) (p ?a))
+          (:action go :parameters (?a) :precondition (ready ?a) :effect (q ?a)))";
+        let p = "(define (problem p) (:domain x) (:objects a b) (:init (p a)))";
+        with_problem(d, p, |db, unit| {
+            let g = ground(db, unit);
+            // Without axioms, `(ready b)` may hold as well as `(ready a)`.
+            assert_eq!(instances(g), ["(go a)", "(go b)"]);
+            assert!(g.operators.iter().all(|o| o.unsupported && g.pre(o).is_empty()));
+            assert!(g.untracked_preds[g.predicates.get("ready").unwrap() as usize]);
+        });
+    }
+
+    #[test]
+    fn not_a_problem_grounds_to_nothing() {
+        let mut host = AnalysisHost::new();
+        let f = host.set_file_text("d.pddl", TYPES);
+        let db = host.db();
+        let unit = file_units(db, f)[0];
+        assert_eq!(ground(db, unit), &Ground::default());
+    }
+}

@@ -1,0 +1,436 @@
+//! The ground vocabulary of a problem and its initial state: objects, predicate
+//! and function names, ground atoms, and what `:init` says about them.
+//!
+//! Everything is interned to `u32` ids so that the lints built on grounding
+//! (position families over thousands of facts, the triangle inequality over
+//! every triple of waypoints) compare integers, not strings. Locations are
+//! item-relative ([`Loc`]), never absolute, so that typing elsewhere in a file
+//! leaves these values equal.
+
+use rowan::TextRange;
+use rustc_hash::FxHashMap;
+
+use crate::db::{Db, Item, ItemSyntax, Section, Unit, lower_item};
+use crate::model::{Fluent, InitElement, ItemData, NumExpr, Str, Term};
+use crate::semantics::symbols::{DomainSymbols, Loc, ProblemSymbols};
+
+/// An object: a problem object or a domain constant.
+pub type ObjId = u32;
+/// A predicate name.
+pub type PredId = u32;
+/// A function (numeric or object fluent) name.
+pub type FuncId = u32;
+/// A ground atom `(pred obj…)`.
+pub type AtomId = u32;
+
+/// Names interned to dense ids, in order of first appearance.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Interner {
+    names: Vec<Str>,
+    index: FxHashMap<Str, u32>,
+}
+
+impl Interner {
+    pub fn intern(&mut self, name: &str) -> u32 {
+        if let Some(&id) = self.index.get(name) {
+            return id;
+        }
+        let id = self.names.len() as u32;
+        self.names.push(name.into());
+        self.index.insert(name.into(), id);
+        id
+    }
+
+    pub fn get(&self, name: &str) -> Option<u32> {
+        self.index.get(name).copied()
+    }
+
+    pub fn name(&self, id: u32) -> &str {
+        self.names.get(id as usize).map_or("?", |n| n.as_str())
+    }
+
+    pub fn len(&self) -> usize {
+        self.names.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.names.is_empty()
+    }
+}
+
+/// The objects a problem can ground with: the domain's constants, then the
+/// problem's objects (a name declared as both keeps the constant).
+#[derive(Debug, Clone, PartialEq, Eq, Default, salsa::SalsaValue)]
+pub struct Objects<'db> {
+    names: Interner,
+    locs: Vec<Loc<'db>>,
+    /// Each object's types: its declared alternatives (`either`) and all their
+    /// ancestors, `object` included.
+    types: Vec<Vec<Str>>,
+    /// The objects of each type (subtypes included), sorted.
+    members: FxHashMap<Str, Vec<ObjId>>,
+}
+
+impl<'db> Objects<'db> {
+    pub(crate) fn new(dom: &DomainSymbols<'db>, prob: &ProblemSymbols<'db>) -> Self {
+        let mut objects = Objects::default();
+        // Hash maps have no order: sort by name so that ids do not depend on hashing.
+        let mut decls: Vec<_> = dom.constants.iter().collect();
+        decls.sort_by(|a, b| a.0.cmp(b.0));
+        let mut problem: Vec<_> = prob.objects.iter().collect();
+        problem.sort_by(|a, b| a.0.cmp(b.0));
+        decls.extend(problem);
+        for (name, decl) in decls {
+            if objects.names.get(name).is_some() {
+                continue;
+            }
+            let id = objects.names.intern(name);
+            let mut types: Vec<Str> = Vec::new();
+            for t in &decl.ty {
+                match dom.ancestors.get(t) {
+                    Some(anc) => types.extend(anc.iter().cloned()),
+                    // `object`, or a type the checks already reported as undeclared.
+                    None => types.push(t.clone()),
+                }
+            }
+            types.push("object".into());
+            types.sort();
+            types.dedup();
+            for t in &types {
+                objects.members.entry(t.clone()).or_default().push(id);
+            }
+            objects.locs.push(decl.loc);
+            objects.types.push(types);
+        }
+        objects
+    }
+
+    pub fn len(&self) -> usize {
+        self.names.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.names.is_empty()
+    }
+
+    /// The object of that (lower-case) name.
+    pub fn id(&self, name: &str) -> Option<ObjId> {
+        self.names.get(name)
+    }
+
+    /// The lower-case name of an object.
+    pub fn name(&self, id: ObjId) -> &str {
+        self.names.name(id)
+    }
+
+    /// Where the object is declared.
+    pub fn loc(&self, id: ObjId) -> Option<Loc<'db>> {
+        self.locs.get(id as usize).copied()
+    }
+
+    /// The object's types, ancestors included (sorted).
+    pub fn types(&self, id: ObjId) -> &[Str] {
+        self.types.get(id as usize).map_or(&[], |t| t.as_slice())
+    }
+
+    pub fn has_type(&self, id: ObjId, ty: &str) -> bool {
+        self.types(id).iter().any(|t| t == ty)
+    }
+
+    /// The objects of a type, subtypes included (sorted).
+    pub fn of_type(&self, ty: &str) -> &[ObjId] {
+        self.members.get(ty).map_or(&[], |m| m.as_slice())
+    }
+
+    /// The objects of any of the alternatives (a parameter's `either`), sorted.
+    pub fn of_types(&self, types: &[Str]) -> Vec<ObjId> {
+        match types {
+            [t] => self.of_type(t).to_vec(),
+            _ => {
+                let mut all: Vec<ObjId> = types.iter().flat_map(|t| self.of_type(t)).copied().collect();
+                all.sort_unstable();
+                all.dedup();
+                all
+            }
+        }
+    }
+}
+
+/// The ground atoms met so far: those of `:init`, then those of the ground
+/// operators. An atom is its predicate followed by its arguments. They are
+/// stored back to back and found by the hash of that key (no allocation per
+/// atom: grounding looks atoms up millions of times).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Atoms {
+    /// `[pred, args…]` of every atom, back to back.
+    data: Vec<u32>,
+    /// Where each atom starts in `data`; one more entry for the end.
+    starts: Vec<u32>,
+    /// Atoms by the hash of their key (several when hashes collide).
+    index: FxHashMap<u64, smallvec::SmallVec<[AtomId; 1]>>,
+}
+
+/// Slice equality without a call to `memcmp`: keys have a handful of elements.
+pub(crate) fn same(a: &[u32], b: &[u32]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x == y)
+}
+
+fn hash_key(key: &[u32]) -> u64 {
+    use std::hash::Hasher;
+    let mut h = rustc_hash::FxHasher::default();
+    for &k in key {
+        h.write_u32(k);
+    }
+    h.finish()
+}
+
+impl Atoms {
+    fn key(&self, atom: AtomId) -> &[u32] {
+        let i = atom as usize;
+        match (self.starts.get(i), self.starts.get(i + 1)) {
+            (Some(&a), Some(&b)) => &self.data[a as usize..b as usize],
+            _ => &[],
+        }
+    }
+
+    fn lookup(&self, key: &[u32], h: u64) -> Option<AtomId> {
+        self.index.get(&h)?.iter().copied().find(|&a| same(self.key(a), key))
+    }
+
+    /// `key` is `[pred, args…]`.
+    pub(crate) fn intern(&mut self, key: &[u32]) -> AtomId {
+        let h = hash_key(key);
+        if let Some(id) = self.lookup(key, h) {
+            return id;
+        }
+        if self.starts.is_empty() {
+            self.starts.push(0);
+        }
+        let id = (self.starts.len() - 1) as AtomId;
+        self.data.extend_from_slice(key);
+        self.starts.push(self.data.len() as u32);
+        self.index.entry(h).or_default().push(id);
+        id
+    }
+
+    /// The atom `[pred, args…]`, if it was met.
+    pub fn get(&self, key: &[u32]) -> Option<AtomId> {
+        self.lookup(key, hash_key(key))
+    }
+
+    /// The atom `(pred args…)`, if it was met.
+    pub fn find(&self, pred: PredId, args: &[ObjId]) -> Option<AtomId> {
+        let mut key: smallvec::SmallVec<[u32; 8]> = smallvec::SmallVec::with_capacity(args.len() + 1);
+        key.push(pred);
+        key.extend_from_slice(args);
+        self.get(&key)
+    }
+
+    pub fn pred(&self, atom: AtomId) -> PredId {
+        self.key(atom).first().copied().unwrap_or(u32::MAX)
+    }
+
+    pub fn args(&self, atom: AtomId) -> &[ObjId] {
+        self.key(atom).get(1..).unwrap_or(&[])
+    }
+
+    pub fn len(&self) -> usize {
+        self.starts.len().saturating_sub(1)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// A timed initial literal: `(at time (p …))` or `(at time (not (p …)))`.
+#[derive(Debug, Clone, PartialEq, salsa::SalsaValue)]
+pub struct TimedLiteral<'db> {
+    pub time: f64,
+    pub atom: AtomId,
+    pub positive: bool,
+    pub loc: Loc<'db>,
+}
+
+/// What a problem's `:init` says, over all its chunks (a long `:init` is split
+/// into several items).
+#[derive(Debug, Clone, PartialEq, Default, salsa::SalsaValue)]
+pub struct InitialState<'db> {
+    /// The true atoms, in the order written, with the fact's location.
+    pub facts: Vec<(AtomId, Loc<'db>)>,
+    /// `(not (p …))` facts (closed world: they only repeat that `p` is false).
+    pub negated: Vec<(AtomId, Loc<'db>)>,
+    /// Timed initial literals: they become true (or false) later, not at the start.
+    pub timed: Vec<TimedLiteral<'db>>,
+    /// `(= (f objs…) v)`: the value and the location of the `=` fact, by
+    /// `[func, args…]`. A fluent set twice keeps its first value.
+    pub fluents: FxHashMap<Box<[u32]>, (f64, Loc<'db>)>,
+    /// `(= (f objs…) obj)` (object fluents), by `[func, args…]`.
+    pub object_fluents: FxHashMap<Box<[u32]>, (ObjId, Loc<'db>)>,
+    /// Whether an atom is true at the start, by id (atoms met after `:init` are false).
+    truth: Vec<bool>,
+    /// The first `:init` item, to point at the initial state as a whole.
+    pub first_item: Option<Item<'db>>,
+}
+
+impl<'db> InitialState<'db> {
+    /// Whether the atom is true in the initial state.
+    pub fn holds(&self, atom: AtomId) -> bool {
+        self.truth.get(atom as usize).copied().unwrap_or(false)
+    }
+
+    /// Whether each atom is true at the start, by id.
+    pub(crate) fn truth(&self) -> &[bool] {
+        &self.truth
+    }
+
+    /// The value of a numeric fluent `(func args…)` and where it is set.
+    pub fn fluent(&self, func: FuncId, args: &[ObjId]) -> Option<(f64, Loc<'db>)> {
+        let mut key: smallvec::SmallVec<[u32; 8]> = smallvec::SmallVec::with_capacity(args.len() + 1);
+        key.push(func);
+        key.extend_from_slice(args);
+        self.fluents.get(key.as_slice()).copied()
+    }
+
+    /// The value of an object fluent `(func args…)` and where it is set.
+    pub fn object_fluent(&self, func: FuncId, args: &[ObjId]) -> Option<(ObjId, Loc<'db>)> {
+        let mut key: smallvec::SmallVec<[u32; 8]> = smallvec::SmallVec::with_capacity(args.len() + 1);
+        key.push(func);
+        key.extend_from_slice(args);
+        self.object_fluents.get(key.as_slice()).copied()
+    }
+
+    /// The span of the `(:init` keyword in [`first_item`](Self::first_item).
+    pub fn keyword_loc(&self, db: &'db dyn Db) -> Option<Loc<'db>> {
+        let item = self.first_item?;
+        let ItemSyntax::Chunk { node, .. } = item.syntax(db) else { return None };
+        // The first chunk starts with `(` and `:init`; look at its first few tokens only.
+        let mut at = rowan::TextSize::from(0);
+        for child in node.0.children().take(4) {
+            if let rowan::NodeOrToken::Token(t) = child
+                && t.text().eq_ignore_ascii_case(":init")
+            {
+                return Some(Loc { item, span: TextRange::at(at, t.text_len()) });
+            }
+            at += child.text_len();
+        }
+        None
+    }
+}
+
+/// Reads a problem's `:init` items into `atoms` and an [`InitialState`].
+/// Facts naming an unknown object or predicate are skipped: the checks report them.
+pub(crate) fn initial_state<'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    objects: &Objects<'db>,
+    preds: &mut Interner,
+    funcs: &mut Interner,
+    atoms: &mut Atoms,
+) -> InitialState<'db> {
+    let mut init = InitialState::default();
+    let mut key: Vec<u32> = Vec::new();
+    for &item in problem.items(db).iter().filter(|i| i.section(db) == Section::Init) {
+        init.first_item.get_or_insert(item);
+        let ItemData::Init(elements) = &lower_item(db, item).data else { continue };
+        let loc = |span| Loc { item, span };
+        for e in elements {
+            match e {
+                InitElement::Fact(a) => {
+                    if let Some(id) =
+                        ground_key(preds, &a.pred.key, &a.args, objects, &mut key).then(|| atoms.intern(&key))
+                    {
+                        init.facts.push((id, loc(a.span)));
+                    }
+                }
+                InitElement::NotFact(a, span) => {
+                    if ground_key(preds, &a.pred.key, &a.args, objects, &mut key) {
+                        init.negated.push((atoms.intern(&key), loc(*span)));
+                    }
+                }
+                InitElement::Assign(f, v, span) => {
+                    if let (true, Some(v)) = (fluent_key(funcs, f, objects, &mut key), constant(v)) {
+                        init.fluents.entry(key.as_slice().into()).or_insert((v, loc(*span)));
+                    }
+                }
+                InitElement::AssignObject(f, o, span) => {
+                    if let (true, Some(o)) = (fluent_key(funcs, f, objects, &mut key), objects.id(&o.key)) {
+                        init.object_fluents.entry(key.as_slice().into()).or_insert((o, loc(*span)));
+                    }
+                }
+                InitElement::Timed(time, inner, span) => {
+                    let (a, positive) = match &**inner {
+                        InitElement::Fact(a) => (a, true),
+                        InitElement::NotFact(a, _) => (a, false),
+                        // Timed numeric assignments do not change what holds at the start.
+                        _ => continue,
+                    };
+                    if ground_key(preds, &a.pred.key, &a.args, objects, &mut key) {
+                        let atom = atoms.intern(&key);
+                        init.timed.push(TimedLiteral { time: time.value(), atom, positive, loc: loc(*span) });
+                    }
+                }
+            }
+        }
+    }
+    init.truth = vec![false; atoms.len()];
+    for &(a, _) in &init.facts {
+        init.truth[a as usize] = true;
+    }
+    init
+}
+
+/// Fills `key` with `[pred, args…]`; false if an argument is not an object.
+fn ground_key(
+    preds: &mut Interner,
+    pred: &str,
+    args: &[Term],
+    objects: &Objects<'_>,
+    key: &mut Vec<u32>,
+) -> bool {
+    key.clear();
+    key.push(preds.intern(pred));
+    args_key(args, objects, key)
+}
+
+fn fluent_key(funcs: &mut Interner, f: &Fluent, objects: &Objects<'_>, key: &mut Vec<u32>) -> bool {
+    key.clear();
+    key.push(funcs.intern(&f.func.key));
+    args_key(&f.args, objects, key)
+}
+
+fn args_key(args: &[Term], objects: &Objects<'_>, key: &mut Vec<u32>) -> bool {
+    for t in args {
+        match t {
+            Term::Const(n) => match objects.id(&n.key) {
+                Some(o) => key.push(o),
+                None => return false,
+            },
+            Term::Var(_) | Term::Func(_) => return false,
+        }
+    }
+    true
+}
+
+/// The value of a constant numeric expression (an `:init` value: `30.98`,
+/// `(- 2)`); `None` if it names a fluent or a variable, divides by zero or overflows.
+pub(crate) fn constant(e: &NumExpr) -> Option<f64> {
+    match e {
+        NumExpr::Number(n) => Some(n.value()).filter(|v| !v.is_nan()),
+        NumExpr::Op(op, args, _) => {
+            let vals: Option<Vec<f64>> = args.iter().map(constant).collect();
+            let vals = vals?;
+            let (first, rest) = vals.split_first()?;
+            let v = match (&**op, rest) {
+                ("-", []) => -first,
+                ("+", _) => rest.iter().fold(*first, |a, b| a + b),
+                ("-", _) => rest.iter().fold(*first, |a, b| a - b),
+                ("*", _) => rest.iter().fold(*first, |a, b| a * b),
+                ("/", _) if rest.iter().all(|b| *b != 0.0) => rest.iter().fold(*first, |a, b| a / b),
+                _ => return None,
+            };
+            Some(v).filter(|v| v.is_finite())
+        }
+        _ => None,
+    }
+}
