@@ -100,6 +100,27 @@ fn complete_surveillance(domain: &str, problem: &str) -> String {
     kept.join("\n").replacen("(:init\n", &format!("(:init\n{facts}"), 1)
 }
 
+/// Position families and move actions (properties 4–6 of Definition 14, the
+/// triangle inequality included) on an already grounded problem.
+fn families_bench(name: &str, domain: &str, problem: &str, runs: usize) {
+    let mut times = Vec::new();
+    let mut summary = String::new();
+    for _ in 0..runs {
+        let mut host = AnalysisHost::new();
+        host.set_file_text("domain.pddl", domain);
+        let p = host.set_file_text("problem.pddl", problem);
+        let db = host.db();
+        let unit = file_units(db, p).iter().copied().find(|u| u.kind(db) == UnitKind::Problem).expect("a problem");
+        hipop_analyzer::verify::ground::ground(db, unit);
+        let start = Instant::now();
+        let f = hipop_analyzer::verify::families::families(db, unit);
+        times.push(start.elapsed());
+        let moves: usize = f.confirmed.iter().flat_map(|c| c.moves.iter().map(|m| m.1)).sum();
+        summary = format!("{} confirmed, {} ground moves, {} lints", f.confirmed.len(), moves, f.lints.len());
+    }
+    println!("| {name} | {summary} | {} |", ms(median(times)));
+}
+
 fn main() {
     // `cargo bench` passes `--bench`; the harness takes no options.
     println!(
@@ -121,4 +142,10 @@ fn main() {
     }
     let (bd, bp) = hipop_samplegen::big(5.0, hipop_samplegen::DEFAULT_SEED);
     bench("generated 5 MB problem (hipop-samplegen big --size-mb 5)", &bd, &bp, 5);
+    println!();
+    println!("| problem | families | families, moves, properties 4–6 (median) |");
+    println!("|---|---|---|");
+    families_bench("surveillance sample (seed 42)", &sd, &sp, 20);
+    families_bench("surveillance, every pair of its 79 waypoints adjacent (3 robot types)", &sd, &full, 10);
+    families_bench("generated 5 MB problem", &bd, &bp, 3);
 }

@@ -82,6 +82,12 @@ pub mod codes {
         TASK_WITHOUT_METHODS = "E0303" "task-without-methods" Error "a task that the model uses has no method: it can never be refined";
         UNUSED_TASK = "W0304" "unused-task" Warning "a task without methods that nothing uses";
         DURATION_NOT_EVALUABLE = "E0305" "duration-not-evaluable" Error "a duration cannot be evaluated from the problem's numeric fluents";
+        NOT_A_POSITION_FAMILY = "I0307" "not-a-position-family" Info "a predicate that looks like a position fails a property of Definition 12 (with the witness)";
+        MISSING_MOVE = "I0308" "missing-move" Info "pairs of positions of a family with no move action between them (Definition 14, property 4)";
+        FASTER_THAN_MOVE = "W0309" "faster-than-move" Warning "an action changes position faster than the move action (Definition 14, property 5)";
+        TRIANGLE_INEQUALITY = "W0310" "triangle-inequality" Warning "a direct move is slower than going through another position (Definition 14, property 6)";
+        DEAD_ACTION = "W0311" "dead-action" Warning "an action or task that can never be in a plan with the problem's allowed actions";
+        DOUBLE_INSERTION = "W0312" "double-insertion" Warning "an allowed action is also a subtask of an allowed task's method: the same plan can be built twice";
     }
 }
 

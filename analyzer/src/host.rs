@@ -156,9 +156,18 @@ impl Analysis {
         self.db.cancellation_token()
     }
 
+    /// Every diagnostic of a file: the checks and the model-verification lints.
     pub fn diagnostics(&self, file: SourceFile) -> Cancellable<Vec<Diagnostic>> {
         self.warm_up(file)?;
         self.with_db(|db| crate::semantics::file_diagnostics(db, file).clone())
+    }
+
+    /// The diagnostics of the syntax and semantic checks only: what the
+    /// language server publishes first, while the lints (which may ground a
+    /// large problem) are computed.
+    pub fn check_diagnostics(&self, file: SourceFile) -> Cancellable<Vec<Diagnostic>> {
+        self.warm_up(file)?;
+        self.with_db(|db| crate::semantics::file_check_diagnostics(db, file).clone())
     }
 
     /// Checks the items of a large file on every core before collecting its
@@ -199,6 +208,18 @@ impl Analysis {
             }
             // This thread takes the first share.
             self.with_db(|db| share(db, 0))
+        })
+    }
+
+    /// `hipop check --explain families`: the position families of each
+    /// problem of the file, as text.
+    pub fn explain_families(&self, file: SourceFile) -> Cancellable<Vec<String>> {
+        self.with_db(|db| {
+            crate::db::file_units(db, file)
+                .iter()
+                .filter(|u| u.kind(db) == crate::db::UnitKind::Problem)
+                .map(|&u| crate::verify::families::explain(db, u))
+                .collect()
         })
     }
 

@@ -142,18 +142,24 @@ fn grounding_reruns_only_when_what_it_reads_changes() {
     let (mut host, log) = host();
     host.set_file_text("d.pddl", domain);
     let p = host.set_file_text("p.pddl", problem);
-    assert!(host.analysis().diagnostics(p).unwrap().is_empty());
+    assert!(quiet(&host.analysis().diagnostics(p).unwrap()));
     assert_eq!(executed(&log, "ground"), 1, "{:?}", log.lock().unwrap());
     log.lock().unwrap().clear();
 
     // The goal is not read by grounding.
     host.apply_edits("p.pddl", vec![edit_at(problem, "(:goal (at-r r1 b)", 16, 1, "a")]).unwrap();
-    assert!(host.analysis().diagnostics(p).unwrap().is_empty());
+    assert!(quiet(&host.analysis().diagnostics(p).unwrap()));
     assert_eq!(executed(&log, "ground"), 0, "{:?}", log.lock().unwrap());
     log.lock().unwrap().clear();
 
     // A value of `:init` is.
     host.apply_edits("p.pddl", vec![edit_at(problem, "12.5", 0, 4, "13.5")]).unwrap();
-    assert!(host.analysis().diagnostics(p).unwrap().is_empty());
+    assert!(quiet(&host.analysis().diagnostics(p).unwrap()));
     assert_eq!(executed(&log, "ground"), 1, "{:?}", log.lock().unwrap());
+}
+
+/// No error or warning (information, such as a position family without a move
+/// between every two positions, may remain).
+fn quiet(diagnostics: &[hipop_analyzer::Diagnostic]) -> bool {
+    diagnostics.iter().all(|d| d.severity == hipop_analyzer::Severity::Info)
 }

@@ -14,6 +14,7 @@ pub struct Options {
     /// Codes silenced for this run.
     pub allow: Vec<&'static hipop_analyzer::Code>,
     pub triangle_tolerance: f64,
+    pub explain: Option<crate::Explain>,
     /// Apply the fixes of the diagnostics first, then check what remains.
     pub fix: bool,
 }
@@ -57,6 +58,15 @@ pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
         Format::Json => rendered.json(),
         Format::Sarif => rendered.sarif(),
         Format::Github => rendered.github(),
+    }
+    // Machine-readable formats own standard output: the explanation is for people.
+    if options.explain == Some(crate::Explain::Families) && options.format == Format::Human {
+        for &f in &files {
+            match analysis.explain_families(f) {
+                Ok(reports) => reports.iter().for_each(|r| print!("{r}")),
+                Err(_) => return 2,
+            }
+        }
     }
     let errors = diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
     let warnings = diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();

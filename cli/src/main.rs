@@ -53,6 +53,12 @@ struct CheckArgs {
     /// be before W0310 triangle-inequality is reported, in the unit of durations.
     #[arg(long, value_name = "DURATION", default_value_t = 0.01, value_parser = parse_tolerance)]
     triangle_tolerance: f64,
+    /// After the diagnostics, explain what hipop found out about the model:
+    /// `families` lists the position families of each problem (Definition 12
+    /// of the HiPOP paper) with their move actions, and the candidates that
+    /// are not families with the reason.
+    #[arg(long, value_enum, value_name = "TOPIC")]
+    explain: Option<Explain>,
     /// When to use colours in human output.
     #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
     color: ColorWhen,
@@ -74,6 +80,13 @@ pub enum Format {
     Sarif,
     /// GitHub Actions workflow annotations.
     Github,
+}
+
+/// What `--explain` explains.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Explain {
+    /// Position families and move actions, per problem.
+    Families,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -114,6 +127,7 @@ fn main() -> ExitCode {
                 color: args.color,
                 allow: args.allow,
                 triangle_tolerance: args.triangle_tolerance,
+                explain: args.explain,
                 fix: args.fix,
             };
             ExitCode::from(check::run(&args.paths, &options))

@@ -7,6 +7,12 @@
 //! if nothing changed in between (the session's generation is the same), and
 //! it is published under the session lock after checking the generation again,
 //! so a publication never describes anything but the latest text.
+//!
+//! The syntax and semantic checks are incremental per item and take a few
+//! milliseconds; the model-verification lints may ground a large problem
+//! (hundreds of milliseconds). When the lints are not ready [`LINTS_WAIT`]
+//! after the checks could be, the checks are published first and the lints
+//! when they are: typing never waits for grounding.
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -45,6 +51,18 @@ pub(crate) enum When {
     NowForced,
 }
 
+/// How long the full diagnostics may take before the checks alone are published.
+const LINTS_WAIT: Duration = Duration::from_millis(50);
+
+/// Which diagnostics a batch holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    /// Syntax and semantic checks.
+    Checks,
+    /// Checks and model-verification lints.
+    All,
+}
+
 /// Schedules a publication for the state of generation `generation`.
 pub(crate) fn schedule(client: &Client, session: &Arc<Mutex<Session>>, generation: u64, when: When) {
     tokio::spawn(publish(client.clone(), session.clone(), generation, when));
@@ -54,26 +72,49 @@ async fn publish(client: Client, session: Arc<Mutex<Session>>, generation: u64, 
     if when == When::Debounced {
         tokio::time::sleep(debounce()).await;
     }
-    let job = {
-        let session = session.lock().await;
-        if session.generation() != generation {
-            return;
+    let job = |session: &Session| (session.generation() == generation).then(|| session.diagnostics_job());
+    let Some(all_job) = job(&*session.lock().await) else { return };
+    let mut all = tokio::task::spawn_blocking(move || guarded(|| Ok(compute(all_job, Phase::All))));
+    let first = match tokio::time::timeout(LINTS_WAIT, &mut all).await {
+        Ok(done) => done,
+        Err(_) => {
+            // The lints take a while: publish the checks meanwhile.
+            let Some(checks_job) = job(&*session.lock().await) else { return };
+            let checks =
+                tokio::task::spawn_blocking(move || guarded(|| Ok(compute(checks_job, Phase::Checks))));
+            if let Some(batch) = outcome(&client, checks.await).await {
+                deliver(&client, &session, generation, when, batch).await;
+            }
+            all.await
         }
-        session.diagnostics_job()
     };
-    let batch = match tokio::task::spawn_blocking(move || guarded(|| Ok(compute(job)))).await {
-        Ok(Outcome::Done(Some(batch))) => batch,
+    if let Some(batch) = outcome(&client, first).await {
+        deliver(&client, &session, generation, when, batch).await;
+    }
+}
+
+/// The batch of a computation, or `None` when it was cancelled or failed (logged).
+async fn outcome(
+    client: &Client,
+    result: Result<Outcome<Option<Batch>>, tokio::task::JoinError>,
+) -> Option<Batch> {
+    match result {
+        Ok(Outcome::Done(batch)) => batch,
         // Cancelled by a change, which scheduled its own publication.
-        Ok(Outcome::Done(None) | Outcome::Cancelled) => return,
+        Ok(Outcome::Cancelled) => None,
         Ok(Outcome::Panicked(message)) => {
             client.log_message(MessageType::ERROR, format!("hipop: diagnostics failed: {message}")).await;
-            return;
+            None
         }
         Err(e) => {
             client.log_message(MessageType::ERROR, format!("hipop: diagnostics failed: {e}")).await;
-            return;
+            None
         }
-    };
+    }
+}
+
+/// Publishes a batch if nothing changed since generation `generation`.
+async fn deliver(client: &Client, session: &Arc<Mutex<Session>>, generation: u64, when: When, batch: Batch) {
     let mut session = session.lock().await;
     if session.generation() != generation {
         return;
@@ -92,12 +133,15 @@ type Batch = Vec<(Uri, i32, Vec<lsp::Diagnostic>)>;
 
 /// The diagnostics of every document of the job; `None` if cancelled. A
 /// document whose analysis panics is left out rather than failing the batch.
-fn compute(job: DiagnosticsJob) -> Option<Batch> {
+fn compute(job: DiagnosticsJob, phase: Phase) -> Option<Batch> {
     let mut batch = Vec::new();
     let mut files = Files::new(&job.analysis, &job.open, job.encoding, &job.indexes);
     for (uri, version, file) in &job.docs {
         let one = guarded(|| {
-            let diags = job.analysis.diagnostics(*file)?;
+            let diags = match phase {
+                Phase::Checks => job.analysis.check_diagnostics(*file)?,
+                Phase::All => job.analysis.diagnostics(*file)?,
+            };
             diags.iter().filter(|d| d.file == *file).map(|d| convert::diagnostic(d, &mut files)).collect()
         });
         match one {

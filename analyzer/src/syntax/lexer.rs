@@ -203,7 +203,9 @@ mod tests {
 
     #[test]
     fn the_lexer_classifies_atoms_like_classify_atom() {
-        for atom in ["?x", ":k", ":", "?", "12", "-3.5", "-", ".", ".5", "1.2.3", "-x", "a1", "été", "+1", "#t"] {
+        for atom in
+            ["?x", ":k", ":", "?", "12", "-3.5", "-", ".", ".5", "1.2.3", "-x", "a1", "été", "+1", "#t"]
+        {
             assert_eq!(kinds(atom), vec![(classify_atom(atom), atom)], "{atom}");
         }
     }

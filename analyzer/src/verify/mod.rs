@@ -11,6 +11,9 @@
 //!   reachability, the base of the problem lints.
 //!   `instantiate.rs` is the engine behind [`ground`].
 //! - [`duration`]: durations evaluated from the problem's fluents (`E0305`).
+//! - [`families`]: position families and move actions confirmed on the ground
+//!   problem (Definitions 12 and 14: I0307, I0308, W0309, W0310).
+//! - `allowed`: lints of `(:allowed-actions …)` (section 4.2.2: W0311, W0312).
 //!
 //! Lints are found in two salsa queries: [`domain_lints`] (what a domain alone
 //! shows) and [`problem_lints`] (what needs a problem and its domain; they may
@@ -22,8 +25,10 @@
 //! Problem lints run only when the problem and its domain have no errors: the
 //! model they reason on would not be the one the user wrote.
 
+mod allowed;
 pub mod conflicts;
 pub mod duration;
+pub mod families;
 pub mod geometry;
 pub mod ground;
 mod instantiate;
@@ -115,6 +120,11 @@ pub fn problem_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
         return out;
     }
     out.extend(duration::duration_lints(db, unit));
+    let Some(domain) = crate::semantics::check::domain_for(db, unit) else { return out };
+    let fams = families::families(db, unit);
+    out.extend(fams.lints.iter().cloned());
+    out.extend(families::rejected_lints(fams));
+    allowed::lints(db, unit, domain, &|name| fams.is_move(name, db), &mut out);
     out
 }
 
