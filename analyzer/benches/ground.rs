@@ -110,7 +110,8 @@ fn families_bench(name: &str, domain: &str, problem: &str, runs: usize) {
         host.set_file_text("domain.pddl", domain);
         let p = host.set_file_text("problem.pddl", problem);
         let db = host.db();
-        let unit = file_units(db, p).iter().copied().find(|u| u.kind(db) == UnitKind::Problem).expect("a problem");
+        let unit =
+            file_units(db, p).iter().copied().find(|u| u.kind(db) == UnitKind::Problem).expect("a problem");
         hipop_analyzer::verify::ground::ground(db, unit);
         let start = Instant::now();
         let f = hipop_analyzer::verify::families::families(db, unit);

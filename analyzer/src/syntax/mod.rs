@@ -55,7 +55,8 @@ impl Parse {
 
 /// Parses a whole file. Never fails.
 pub fn parse(text: &str) -> Parse {
-    let (green, errors) = parser::Parser::new(text).parse_file();
+    let tokens = lexer::lex_parallel(text);
+    let (green, errors) = parser::parse_file(text, &tokens);
     Parse { green: Green(green), errors: errors.into() }
 }
 

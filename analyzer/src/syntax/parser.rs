@@ -17,8 +17,9 @@ use rowan::{GreenNode, TextRange};
 
 use super::builder::TreeBuilder;
 
+use super::builder::Element;
 use super::kind::SyntaxKind;
-use super::lexer::{Tokens, lex_parallel};
+use super::lexer::Tokens;
 
 /// What is wrong with the parentheses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -134,11 +135,22 @@ struct Frame {
     virtual_: bool,
 }
 
+/// The tail of a large `:init`, built on another thread since the parse began.
+struct Tail {
+    /// The `:init`'s first token after the keyword, where the first part starts.
+    start: usize,
+    /// Where the tail starts, and the `:init`'s closing `)`.
+    split: usize,
+    close: usize,
+    built: std::sync::mpsc::Receiver<Vec<Element>>,
+}
+
 pub(crate) struct Parser<'t> {
     text: &'t str,
     /// Token kinds; token `i` covers `offsets[i]..offsets[i + 1]`.
-    kinds: Vec<SyntaxKind>,
-    offsets: Vec<u32>,
+    kinds: &'t [SyntaxKind],
+    offsets: &'t [u32],
+    tail: Option<Tail>,
     pos: usize,
     builder: TreeBuilder<'t>,
     stack: Vec<Frame>,
@@ -150,12 +162,12 @@ pub(crate) struct Parser<'t> {
 }
 
 impl<'t> Parser<'t> {
-    pub(crate) fn new(text: &'t str) -> Self {
-        let Tokens { kinds, starts: offsets } = lex_parallel(text);
+    pub(crate) fn new(text: &'t str, tokens: &'t Tokens) -> Self {
         Parser {
             text,
-            kinds,
-            offsets,
+            kinds: &tokens.kinds,
+            offsets: &tokens.starts,
+            tail: None,
             pos: 0,
             builder: TreeBuilder::new(),
             stack: Vec::new(),
@@ -330,11 +342,19 @@ impl<'t> Parser<'t> {
     /// sequential parser would do nothing but open and close lists, which is
     /// what each half does: the tree is the same, built in about half the time.
     fn parallel_interior(&mut self) {
-        const PARALLEL_FROM_TOKENS: usize = 50_000;
         if !self.parallel || self.stack.iter().any(|f| f.virtual_) {
             return;
         }
         let start = self.pos;
+        if let Some(tail) = self.tail.take_if(|t| t.start == start) {
+            let first = fragment(self.text, self.kinds, self.offsets, start, tail.split);
+            let second = tail
+                .built
+                .recv()
+                .unwrap_or_else(|_| fragment(self.text, self.kinds, self.offsets, tail.split, tail.close));
+            self.join_interior(start, tail.close, first, second);
+            return;
+        }
         let mut depth = 0usize;
         let mut close = None;
         for i in start..self.kinds.len() {
@@ -369,13 +389,18 @@ impl<'t> Parser<'t> {
             }
         }
         let Some(split) = split else { return };
-        let this = &*self;
+        let (text, kinds, offsets) = (self.text, self.kinds, self.offsets);
         let halves = std::thread::scope(|scope| {
-            let second = scope.spawn(|| this.fragment(split, close));
-            let first = this.fragment(start, split);
+            let second = scope.spawn(|| fragment(text, kinds, offsets, split, close));
+            let first = fragment(text, kinds, offsets, start, split);
             second.join().ok().map(|second| (first, second))
         });
         let Some((first, second)) = halves else { return };
+        self.join_interior(start, close, first, second);
+    }
+
+    /// Appends the two parts of an `:init` interior built apart, and moves past it.
+    fn join_interior(&mut self, start: usize, close: usize, first: Vec<Element>, second: Vec<Element>) {
         self.builder.extend(first);
         self.builder.extend(second);
         if let Some(last) = (start..close).rev().find(|&i| !self.kinds[i].is_trivia()) {
@@ -385,26 +410,6 @@ impl<'t> Parser<'t> {
             }
         }
         self.pos = close;
-    }
-
-    /// The elements of tokens `from..to`, which balance and need no recovery.
-    fn fragment(&self, from: usize, to: usize) -> Vec<super::builder::Element> {
-        let mut builder = TreeBuilder::new();
-        for i in from..to {
-            let kind = self.kinds[i];
-            match kind {
-                SyntaxKind::LParen => {
-                    builder.start_node(SyntaxKind::List);
-                    builder.token(kind, self.text, self.span(i));
-                }
-                SyntaxKind::RParen => {
-                    builder.token(kind, self.text, self.span(i));
-                    builder.finish_node();
-                }
-                _ => builder.token(kind, self.text, self.span(i)),
-            }
-        }
-        builder.into_children()
     }
 
     fn close_paren(&mut self) {
@@ -530,4 +535,94 @@ pub(crate) fn ancestor_kind(head: Option<&str>) -> AncestorKind {
         Some(h) if is_in(ITEM_HEADS, h) => AncestorKind::Item,
         _ => AncestorKind::Other,
     }
+}
+
+/// The elements of tokens `from..to`, which balance and need no recovery.
+fn fragment(text: &str, kinds: &[SyntaxKind], offsets: &[u32], from: usize, to: usize) -> Vec<Element> {
+    let span = |i: usize| offsets[i] as usize..offsets[i + 1] as usize;
+    let mut builder = TreeBuilder::new();
+    for (i, &kind) in kinds.iter().enumerate().take(to).skip(from) {
+        match kind {
+            SyntaxKind::LParen => {
+                builder.start_node(SyntaxKind::List);
+                builder.token(kind, text, span(i));
+            }
+            SyntaxKind::RParen => {
+                builder.token(kind, text, span(i));
+                builder.finish_node();
+            }
+            _ => builder.token(kind, text, span(i)),
+        }
+    }
+    builder.into_children()
+}
+
+/// A large `:init` to build in parallel: below this many tokens, a thread
+/// costs more than it saves.
+const PARALLEL_FROM_TOKENS: usize = 50_000;
+
+/// Where the first large `:init` of the tokens is, and where to split it so
+/// that a thread started now, building the tail, finishes with the parser,
+/// which first parses everything before it, then the head of the `:init`:
+/// `(start, split, close)`. `None` when there is none, or when its interior
+/// could trigger recovery (a keyword inside, unbalanced parentheses): then
+/// the parser decides when it gets there.
+fn large_init(text: &str, kinds: &[SyntaxKind], offsets: &[u32]) -> Option<(usize, usize, usize)> {
+    let significant = |i: usize| !kinds[i].is_trivia();
+    let keyword = (0..kinds.len()).find(|&k| {
+        kinds[k] == SyntaxKind::Keyword
+            && text[offsets[k] as usize..offsets[k + 1] as usize].eq_ignore_ascii_case(":init")
+            && (0..k).rev().find(|&i| significant(i)).is_some_and(|i| kinds[i] == SyntaxKind::LParen)
+    })?;
+    let start = keyword + 1;
+    let mut depth = 0usize;
+    let mut close = None;
+    for (i, &kind) in kinds.iter().enumerate().skip(start) {
+        match kind {
+            SyntaxKind::LParen => depth += 1,
+            SyntaxKind::RParen if depth == 0 => {
+                close = Some(i);
+                break;
+            }
+            SyntaxKind::RParen => depth -= 1,
+            SyntaxKind::Keyword => return None,
+            _ => {}
+        }
+    }
+    let close = close?;
+    if close - start < PARALLEL_FROM_TOKENS {
+        return None;
+    }
+    // The parser's share: the `keyword` tokens before, then `start..split`.
+    let target = (start + close).saturating_sub(keyword) / 2;
+    let target = target.clamp(start + (close - start) / 4, close - (close - start) / 4);
+    let mut depth = 0usize;
+    for (i, &kind) in kinds.iter().enumerate().take(close).skip(start) {
+        match kind {
+            SyntaxKind::LParen if depth == 0 && i >= target => return Some((start, i, close)),
+            SyntaxKind::LParen => depth += 1,
+            SyntaxKind::RParen => depth -= 1,
+            _ => {}
+        }
+    }
+    None
+}
+
+/// Parses a whole file from its tokens; the tail of a large `:init` is built
+/// on a second thread from the start.
+pub(crate) fn parse_file(text: &str, tokens: &Tokens) -> (GreenNode, Vec<SyntaxError>) {
+    let mut parser = Parser::new(text, tokens);
+    let Some((start, split, close)) = large_init(text, &tokens.kinds, &tokens.starts) else {
+        return parser.parse_file();
+    };
+    std::thread::scope(|scope| {
+        let (send, built) = std::sync::mpsc::channel();
+        let (kinds, offsets) = (&tokens.kinds[..], &tokens.starts[..]);
+        scope.spawn(move || {
+            // A parser that does not use it (it never happens) drops the receiver.
+            let _ = send.send(fragment(text, kinds, offsets, split, close));
+        });
+        parser.tail = Some(Tail { start, split, close, built });
+        parser.parse_file()
+    })
 }

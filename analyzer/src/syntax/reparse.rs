@@ -54,7 +54,8 @@ pub(super) fn reparse_list(old: &Parse, edit: &TextEdit) -> Option<Parse> {
         .map(|l| ancestor_kind(l.head_text().as_deref()))
         .collect();
     ancestors.reverse();
-    let green = Parser::new(&new_text).parse_list_in(&ancestors)?;
+    let tokens = super::lexer::lex_parallel(&new_text);
+    let green = Parser::new(&new_text, &tokens).parse_list_in(&ancestors)?;
     let new_list = List(super::SyntaxNode::new_root(green.clone()));
     // Recovery at the list's own `(` and `)` depends on its head: it must keep its role.
     let role = |l: &List| {

@@ -40,7 +40,8 @@ fn a_large_init_built_on_two_threads_is_the_sequential_tree() {
     }
     text.push_str("  )\n  (:goal (road a b)))\n");
     let parallel = parse(&text);
-    let mut sequential = parser::Parser::new(&text);
+    let tokens = super::lexer::lex(&text);
+    let mut sequential = parser::Parser::new(&text, &tokens);
     sequential.parallel = false;
     let (green, errors) = sequential.parse_file();
     assert_eq!(parallel.text(), text);
