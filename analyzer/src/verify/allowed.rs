@@ -155,4 +155,98 @@ pub(super) fn lints<'db>(
             );
         }
     }
+
+    let usable: FxHashSet<&str> = allowed_keys.iter().copied().chain(used.keys().map(|k| &**k)).collect();
+    unreachable_goals(db, problem, &d, &usable, out);
+}
+
+/// E0313: goal atoms that relaxed reachability from the initial state cannot
+/// reach with the usable operators (the allowed ones and those the methods of
+/// allowed tasks and of `:htn` use), naming the producers that are not usable.
+fn unreachable_goals<'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    d: &Domain<'db>,
+    usable: &FxHashSet<&str>,
+    out: &mut Vec<Lint<'db>>,
+) {
+    let g = super::ground::ground(db, problem);
+    if g.truncated {
+        // Instances are missing: an atom out of reach may only be out of the limit.
+        return;
+    }
+    let schema_usable: Vec<bool> = g.schemas.iter().map(|s| usable.contains(&*s.name)).collect();
+    let reach = super::reach::reachable(g, |op| schema_usable[op.schema as usize]);
+    for &item in problem.items(db) {
+        if item.section(db) != Section::Goal {
+            continue;
+        }
+        let ItemData::Goal(goal) = &crate::db::lower_item(db, item).data else { continue };
+        let mut atoms = Vec::new();
+        positive_atoms(goal, &mut atoms);
+        for atom in atoms {
+            let Some(pred) = g.predicates.get(&atom.pred.key) else { continue };
+            if g.untracked_preds.get(pred as usize).copied().unwrap_or(true) {
+                continue;
+            }
+            let args: Option<Vec<u32>> = atom
+                .args
+                .iter()
+                .map(|t| match t {
+                    crate::model::Term::Const(n) => g.objects.id(&n.key),
+                    _ => None,
+                })
+                .collect();
+            let Some(args) = args else { continue };
+            let id = g.atoms.find(pred, &args);
+            if id.is_some_and(|a| reach.atom(a)) {
+                continue;
+            }
+            // Producers: the schemas of reachable instances that add it.
+            let mut producers: Vec<&str> = Vec::new();
+            if let Some(a) = id {
+                for op in &g.operators {
+                    let name = &*g.schemas[op.schema as usize].name;
+                    if !producers.contains(&name) && g.add(op).contains(&a) {
+                        producers.push(name);
+                    }
+                }
+            }
+            let why = match producers.as_slice() {
+                [] => "no action or task can add it from the initial state".to_string(),
+                names => format!(
+                    "{} could add it but {} not allowed, and no method of an allowed task uses {}",
+                    names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", "),
+                    if names.len() == 1 { "is" } else { "are" },
+                    if names.len() == 1 { "it" } else { "them" },
+                ),
+            };
+            let mut lint = Lint::new(
+                codes::UNREACHABLE_GOAL,
+                Loc { item, span: atom.span },
+                format!(
+                    "the goal `{}` cannot be achieved with the allowed actions and their methods, even \
+                     ignoring deletions: {why}",
+                    g.show_atom_parts(pred, &args)
+                ),
+            );
+            for name in producers {
+                if let Some(&(op_item, span, _)) = d.ops.get(name) {
+                    lint = lint.related(Loc { item: op_item, span }, format!("`{name}` adds it"));
+                }
+            }
+            out.push(lint);
+        }
+    }
+}
+
+/// The atoms a goal requires to be true (under `and` and timing only).
+fn positive_atoms<'a>(gd: &'a crate::model::Gd, out: &mut Vec<&'a crate::model::Atom>) {
+    use crate::model::Gd;
+    match gd {
+        Gd::Atom(a) => out.push(a),
+        Gd::And(gs, _) => gs.iter().for_each(|g| positive_atoms(g, out)),
+        Gd::Timed(_, g, _) => positive_atoms(g, out),
+        _ => {}
+    }
 }

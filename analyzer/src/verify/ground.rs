@@ -177,6 +177,11 @@ impl<'db> Ground<'db> {
         show(self.predicates.name(self.atoms.pred(atom)), self.atoms.args(atom), &self.objects)
     }
 
+    /// An atom given by its parts as text, whether or not it was met.
+    pub fn show_atom_parts(&self, pred: PredId, args: &[ObjId]) -> String {
+        show(self.predicates.name(pred), args, &self.objects)
+    }
+
     /// An operator instance as text: `(move r1 a b)`.
     pub fn show_operator(&self, op: &GroundOperator<'db>) -> String {
         let name = self.schemas.get(op.schema as usize).map_or("?", |s| s.name.as_str());
