@@ -309,6 +309,10 @@ fn moves<'db>(
             }
         }
     }
+    for inst in instances.values_mut() {
+        inst.positions.sort_unstable();
+        inst.positions.dedup();
+    }
     let mut keys: Vec<Vec<ObjId>> = instances.keys().cloned().collect();
     keys.sort();
     let who = |key: &[ObjId]| key.iter().map(|&o| g.objects.name(o)).collect::<Vec<_>>().join(" ");
@@ -319,14 +323,12 @@ fn moves<'db>(
     let (mut pairs, mut missing, mut examples) = (0usize, 0usize, Vec::new());
     for key in &keys {
         let inst = &instances[key];
-        let mut positions = inst.positions.clone();
-        positions.sort_unstable();
-        positions.dedup();
+        let positions = &inst.positions;
         let n = positions.len();
         let here = inst.moves.keys().filter(|(a, b)| a != b).count();
         pairs += n * n.saturating_sub(1);
         missing += n * n.saturating_sub(1) - here.min(n * n.saturating_sub(1));
-        'examples: for &a in &positions {
+        'examples: for &a in positions {
             for &b in positions.iter().filter(|&&b| b != a) {
                 if examples.len() == 3 {
                     break 'examples;
@@ -399,9 +401,7 @@ fn moves<'db>(
     let mut seen: rustc_hash::FxHashSet<u64> = rustc_hash::FxHashSet::default();
     for key in &keys {
         let inst = &instances[key];
-        let mut positions = inst.positions.clone();
-        positions.sort_unstable();
-        positions.dedup();
+        let positions = &inst.positions;
         let n = positions.len();
         let index: FxHashMap<ObjId, usize> = positions.iter().enumerate().map(|(i, &p)| (p, i)).collect();
         let mut dur = vec![f64::INFINITY; n * n];

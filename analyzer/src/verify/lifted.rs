@@ -19,6 +19,7 @@ use crate::model::{
     Action, ActionKind, Atom, CmpOp, ConflictsForm, Effect, Gd, ItemData, Method, NumExpr, Str, Task, Term,
     Typed,
 };
+use crate::semantics::check::gd_span;
 use crate::semantics::symbols::type_set;
 
 /// A term of a lifted atom.
@@ -268,25 +269,6 @@ fn duration(gd: Option<&Gd>) -> Duration {
         ) => Duration::Exact(e.clone()),
         Some(Gd::And(gs, _)) if gs.len() == 1 => duration(gs.first()),
         Some(other) => Duration::Bounded(gd_span(other)),
-    }
-}
-
-fn gd_span(gd: &Gd) -> TextRange {
-    match gd {
-        Gd::Atom(a) => a.span,
-        Gd::Order(o) => o.span,
-        Gd::Equal(_, _, s)
-        | Gd::Compare(_, _, _, s)
-        | Gd::Not(_, s)
-        | Gd::And(_, s)
-        | Gd::Or(_, s)
-        | Gd::Imply(_, _, s)
-        | Gd::Forall(_, _, s)
-        | Gd::Exists(_, _, s)
-        | Gd::Timed(_, _, s)
-        | Gd::Preference(_, _, s)
-        | Gd::Modal(_, _, _, s)
-        | Gd::Sortof(_, _, s) => *s,
     }
 }
 
