@@ -444,7 +444,43 @@ pub fn hover(db: &dyn Db, file: SourceFile, offset: TextSize) -> Option<HoverRes
         markdown.push_str("\n\n");
         markdown.push_str(&doc);
     }
+    for line in family_notes(db, unit, domain, kind, &key) {
+        markdown.push_str("\n\n");
+        markdown.push_str(&line);
+    }
     Some(HoverResult { range, markdown })
+}
+
+/// How many problems of a domain hover consults for position families.
+const FAMILY_PROBLEMS: usize = 3;
+
+/// What model verification says about a predicate (a position family or
+/// not) or an action (a move action) in the problem hovered, or in the first
+/// problems of the domain hovered whose models are free of errors.
+fn family_notes(
+    db: &dyn Db,
+    unit: Unit<'_>,
+    domain: Option<Unit<'_>>,
+    kind: RefKind,
+    key: &str,
+) -> Vec<String> {
+    if !matches!(kind, RefKind::Predicate | RefKind::Callable) {
+        return Vec::new();
+    }
+    let problems: Vec<Unit<'_>> = match (unit.kind(db), domain) {
+        (UnitKind::Problem, _) => vec![unit],
+        (_, Some(d)) => problems_of(db, d).clone(),
+        _ => Vec::new(),
+    };
+    problems
+        .into_iter()
+        .filter(|&p| crate::verify::model_is_clean(db, p))
+        .take(FAMILY_PROBLEMS)
+        .filter_map(|p| match kind {
+            RefKind::Predicate => crate::verify::families::describe_predicate(db, p, key),
+            _ => crate::verify::families::describe_action(db, p, key),
+        })
+        .collect()
 }
 
 fn type_text(t: &TypeRef) -> String {

@@ -553,6 +553,61 @@ pub fn rejected_lints<'db>(f: &Families<'db>) -> Vec<Lint<'db>> {
         .collect()
 }
 
+/// What the position families of `problem` say about a predicate (hover):
+/// whether it is a confirmed family, with its instances and move actions, or
+/// a candidate that is not one, and why. `None` when it is not a candidate.
+pub fn describe_predicate(db: &dyn Db, problem: Unit<'_>, pred: &str) -> Option<String> {
+    let f = families(db, problem);
+    let name = problem.name(db).clone().unwrap_or_else(|| "?".into());
+    if let Some(fam) = f.confirmed.iter().find(|c| c.candidate.pred.eq_ignore_ascii_case(pred)) {
+        return Some(format!(
+            "position family `{}` in problem `{name}`: confirmed (Definition 12), {}; move actions: {}",
+            Pattern(&fam.candidate),
+            instances(fam.instances),
+            move_list(db, fam)
+        ));
+    }
+    let r = f.rejected.iter().find(|r| r.candidate.pred.eq_ignore_ascii_case(pred))?;
+    Some(format!(
+        "`{}` is not a position family in problem `{name}` (Definition 12, property {}): {}",
+        Pattern(&r.candidate),
+        r.property,
+        r.why
+    ))
+}
+
+/// Whether an action is a move action of a confirmed family of `problem`, as
+/// a sentence for hover.
+pub fn describe_action(db: &dyn Db, problem: Unit<'_>, action: &str) -> Option<String> {
+    let f = families(db, problem);
+    let name = problem.name(db).clone().unwrap_or_else(|| "?".into());
+    f.confirmed.iter().find_map(|fam| {
+        let (_, n) = fam
+            .moves
+            .iter()
+            .find(|(item, _)| item.name(db).as_deref().is_some_and(|m| m.eq_ignore_ascii_case(action)))?;
+        Some(format!(
+            "move action of position family `{}` in problem `{name}` (Definition 14): {n} ground moves",
+            Pattern(&fam.candidate)
+        ))
+    })
+}
+
+/// `1 instance`, `8 instances`.
+fn instances(n: usize) -> String {
+    format!("{n} instance{}", if n == 1 { "" } else { "s" })
+}
+
+/// The move actions of a family, with their numbers of ground moves.
+fn move_list(db: &dyn Db, fam: &Family<'_>) -> String {
+    let moves: Vec<String> = fam
+        .moves
+        .iter()
+        .map(|(item, n)| format!("`{}` ({n} ground moves)", item.name(db).as_deref().unwrap_or("?")))
+        .collect();
+    if moves.is_empty() { "none".to_string() } else { moves.join(", ") }
+}
+
 /// The families of a problem as text: confirmed ones with their move actions,
 /// then the candidates that are not families and why
 /// (`hipop check --explain families`).
@@ -567,17 +622,12 @@ pub fn explain(db: &dyn Db, problem: Unit<'_>) -> String {
         );
     }
     for fam in &f.confirmed {
-        let moves: Vec<String> = fam
-            .moves
-            .iter()
-            .map(|(item, n)| format!("`{}` ({n} ground moves)", item.name(db).as_deref().unwrap_or("?")))
-            .collect();
         let _ = writeln!(
             out,
-            "  position family `{}`: confirmed, {} instances; move actions: {}",
+            "  position family `{}`: confirmed, {}; move actions: {}",
             Pattern(&fam.candidate),
-            fam.instances,
-            if moves.is_empty() { "none".to_string() } else { moves.join(", ") }
+            instances(fam.instances),
+            move_list(db, fam)
         );
     }
     for r in &f.rejected {

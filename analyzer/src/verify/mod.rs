@@ -129,7 +129,7 @@ pub fn problem_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
 }
 
 /// Whether a problem and its domain are free of errors.
-fn model_is_clean(db: &dyn Db, problem: Unit<'_>) -> bool {
+pub(crate) fn model_is_clean(db: &dyn Db, problem: Unit<'_>) -> bool {
     let Some(domain) = crate::semantics::check::domain_for(db, problem) else { return false };
     let clean =
         |u: Unit<'_>| crate::semantics::unit_diagnostics(db, u).iter().all(|d| d.severity != Severity::Error);
