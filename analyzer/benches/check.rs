@@ -7,6 +7,10 @@ use std::time::{Duration, Instant};
 
 use hipop_analyzer::{AnalysisHost, TextEdit, TextRange, TextSize};
 
+/// The allocator of the `hipop` binary: what it measures is what users get.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn median(mut v: Vec<Duration>) -> Duration {
     v.sort();
     v[v.len() / 2]

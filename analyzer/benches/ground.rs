@@ -10,6 +10,10 @@ use hipop_analyzer::AnalysisHost;
 use hipop_analyzer::db::{UnitKind, file_units};
 use hipop_analyzer::verify::ground::{Limits, ground_methods_with, ground_with};
 
+/// The allocator of the `hipop` binary: what it measures is what users get.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn median(mut v: Vec<Duration>) -> Duration {
     v.sort();
     v[v.len() / 2]
