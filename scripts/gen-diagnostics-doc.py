@@ -1,9 +1,17 @@
 #!/usr/bin/env python3
-"""Regenerates docs/diagnostics.md and docs/lints.md from their templates in
-docs/src/, the registry in analyzer/src/diagnostic.rs and the real output of
-`hipop check` on each fixture of samples/broken, so the examples never drift
-from the code. Codes E03xx/W03xx/I03xx (model verification) are documented in
-lints.md, the others in diagnostics.md; every code has a section in one.
+"""Regenerates docs/diagnostics.md, docs/lints.md and docs/validation.md from
+their templates in docs/src/, the registry in analyzer/src/diagnostic.rs and
+the real output of hipop on each fixture (samples/broken, tests/plans), so the
+examples never drift from the code. Codes E03xx/W03xx/I03xx (model
+verification) are documented in lints.md, codes E04xx/W04xx (plans: their
+syntax, and their validation) in validation.md, the others in diagnostics.md;
+every code has a section in one.
+
+Directives in the templates:
+    @@TABLE@@               the table of the codes of the page
+    @@FIXTURE path@@        a model fixture and what `hipop check` prints on it
+    @@FILE path@@           a file, shown as text (a plan, say)
+    @@RUN args…@@           what `hipop args… --color never` prints, and its exit status
 
     python3 scripts/gen-diagnostics-doc.py          # rewrite the document
     python3 scripts/gen-diagnostics-doc.py --check  # fail if it is out of date
@@ -14,21 +22,27 @@ root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 os.chdir(root)
 tpl = open('docs/src/diagnostics.template.md').read()
 lints_tpl = open('docs/src/lints.template.md').read()
+plans_tpl = open('docs/src/validation.template.md').read()
 reg = open('analyzer/src/diagnostic.rs').read()
 rows = []
 codes = []
 def is_lint(cid):
     return cid[1:3] == '03'
+def is_plan(cid):
+    return cid[1:3] == '04'
+def page_of(cid):
+    return 'lints.md' if is_lint(cid) else 'validation.md' if is_plan(cid) else ''
 for m in re.finditer(r'^\s*([A-Z_]+) = "(\w+)" "([\w-]+)" (\w+) "(.*)";\s*$', reg, re.M):
     _, cid, name, sev, summary = m.groups()
     codes.append((cid, name))
-    page = 'lints.md' if is_lint(cid) else ''
+    page = page_of(cid)
     rows.append(f'| [{cid}]({page}#{cid.lower()}-{name}) | `{name}` | {sev.lower()} | {summary} |')
 assert rows, 'no code found in the registry'
 tpl = tpl.replace('@@TABLE@@', '\n'.join(rows))
 lints_tpl = lints_tpl.replace('@@TABLE@@', '\n'.join(r.replace('](lints.md#', '](#') for r in rows if is_lint(r[3:8])))
+plans_tpl = plans_tpl.replace('@@TABLE@@', '\n'.join(r.replace('](validation.md#', '](#') for r in rows if is_plan(r[3:8])))
 for cid, name in codes:
-    doc = lints_tpl if is_lint(cid) else tpl
+    doc = lints_tpl if is_lint(cid) else plans_tpl if is_plan(cid) else tpl
     assert f'### {cid} {name}' in doc, f'code {cid} {name} has no `### {cid} {name}` section in its template'
 
 features = [
@@ -74,9 +88,20 @@ def fixture(name):
     out.append(f'`hipop check {path} --color never` prints (exit status {r.returncode}):\n')
     out.append(f'```text\n{r.stderr.rstrip()}\n```')
     return '\n'.join(out)
+def show_file(path):
+    lang = 'json' if path.endswith('.json') else 'text'
+    return f'`{os.path.basename(path)}`:\n\n```{lang}\n{strip_header(open(path).read())}\n```'
+def run(args):
+    argv = args.split()
+    r = subprocess.run([hipop] + argv + ['--color', 'never'], capture_output=True, text=True)
+    assert r.returncode in (0, 1, 2) and 'panicked' not in r.stderr, (args, r.returncode, r.stderr)
+    shown = '\n'.join(x for x in (r.stderr.rstrip(), r.stdout.rstrip()) if x)
+    return f'`hipop {args}` prints (exit status {r.returncode}):\n\n```text\n{shown}\n```'
 stale = []
-for out, text in [('docs/diagnostics.md', tpl), ('docs/lints.md', lints_tpl)]:
+for out, text in [('docs/diagnostics.md', tpl), ('docs/lints.md', lints_tpl), ('docs/validation.md', plans_tpl)]:
     text = re.sub(r'@@FIXTURE (\S+)@@', lambda m: fixture(m.group(1)), text)
+    text = re.sub(r'@@FILE (\S+)@@', lambda m: show_file(m.group(1)), text)
+    text = re.sub(r'@@RUN ([^@]+)@@', lambda m: run(m.group(1).strip()), text)
     assert '@@' not in text, out
     if '--check' in sys.argv:
         if not os.path.exists(out) or open(out).read() != text:
@@ -87,4 +112,4 @@ for out, text in [('docs/diagnostics.md', tpl), ('docs/lints.md', lints_tpl)]:
 if stale:
     sys.exit(f'{", ".join(stale)} out of date: run python3 scripts/gen-diagnostics-doc.py')
 if '--check' in sys.argv:
-    print('docs/diagnostics.md and docs/lints.md are up to date')
+    print('docs/diagnostics.md, docs/lints.md and docs/validation.md are up to date')

@@ -89,6 +89,16 @@ pub mod codes {
         DEAD_ACTION = "W0311" "dead-action" Warning "an action or task that can never be in a plan with the problem's allowed actions";
         DOUBLE_INSERTION = "W0312" "double-insertion" Warning "an allowed action is also a subtask of an allowed task's method: the same plan can be built twice";
         UNREACHABLE_GOAL = "E0313" "unreachable-goal" Error "a goal cannot be achieved with the allowed actions and their methods, even ignoring deletions";
+
+        MALFORMED_STEP = "E0401" "malformed-step" Error "a plan step (a VAL line, an IPC 2020 line or a JSON step) cannot be read";
+        DUPLICATE_STEP_ID = "E0402" "duplicate-step-id" Error "two steps of a plan have the same id";
+        UNKNOWN_STEP_ID = "E0403" "unknown-step-id" Error "a root, subtask, timing annotation or link names a step id the plan does not have";
+        MISSING_PLAN_START = "E0404" "missing-plan-start" Error "a hierarchical plan has no `==>` line before its steps";
+        MALFORMED_PLAN_LINE = "E0405" "malformed-plan-line" Error "a `root` line or timing annotation of a hierarchical plan is misplaced or cannot be read";
+        MALFORMED_JSON_PLAN = "E0406" "malformed-json-plan" Error "a JSON plan is not JSON, or a part other than a step (header, problem, root, links) cannot be read";
+        IGNORED_LINE = "W0401" "ignored-line" Warning "text in a plan that is neither a step nor a comment, and is ignored";
+        UNPORTABLE_PLAN_LINE = "W0402" "unportable-plan-line" Warning "a comment or timing annotation inside `==>` … `<==`, which pandaPIparser rejects";
+        MIXED_TIMING = "W0403" "mixed-timing" Warning "some steps of a plan have a start time and others do not";
     }
 }
 

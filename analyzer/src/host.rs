@@ -10,6 +10,8 @@ use salsa::Setter;
 
 use crate::db::{ReparseHint, RootDatabase, Settings, SourceFile, Workspace, parse};
 use crate::diagnostic::Diagnostic;
+use crate::plan::agents::AgentTable;
+use crate::plan::{NameMatching, Plan, PlanFormat};
 use crate::syntax::{TextEdit, TextSize};
 
 /// A request was cancelled by a newer change.
@@ -254,5 +256,31 @@ impl Analysis {
 
     pub fn file_path(&self, file: SourceFile) -> Cancellable<String> {
         self.with_db(|db| file.path(db).clone())
+    }
+
+    /// The plan in a file, read in `format`, or in the format its content
+    /// shows (docs/plan-formats.md).
+    pub fn plan(&self, file: SourceFile, format: Option<PlanFormat>) -> Cancellable<Plan> {
+        self.with_db(|db| match format {
+            Some(f) => crate::plan::parse_plan_as(db, file, f).clone(),
+            None => crate::plan::parse_plan(db, file).clone(),
+        })
+    }
+
+    /// The diagnostics of reading a plan (E0401–E0409, W0401–W0409).
+    pub fn plan_diagnostics(
+        &self,
+        file: SourceFile,
+        format: Option<PlanFormat>,
+    ) -> Cancellable<Vec<Diagnostic>> {
+        self.with_db(|db| match format {
+            Some(f) => crate::plan::parse_plan_as(db, file, f).file_diagnostics(file),
+            None => crate::plan::parse_plan(db, file).file_diagnostics(file),
+        })
+    }
+
+    /// The agents of the actions and tasks of the domains in a file (their `:agent`).
+    pub fn plan_agents(&self, domain: SourceFile, matching: NameMatching) -> Cancellable<AgentTable> {
+        self.with_db(|db| AgentTable::from_domain(db, domain, matching))
     }
 }

@@ -10,6 +10,7 @@ pub mod fix;
 mod host;
 pub mod ide;
 pub mod model;
+pub mod plan;
 pub mod semantics;
 pub mod syntax;
 pub mod verify;

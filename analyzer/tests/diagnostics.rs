@@ -319,7 +319,8 @@ fn recovery_fixtures() {
     });
 }
 
-/// Every code of the registry has a fixture named after it.
+/// Every code of the registry has a fixture named after it (the plan codes,
+/// E04xx and W04xx, have theirs in `tests/plans/`: see `tests/plans.rs`).
 #[test]
 fn every_code_has_a_fixture() {
     let names: Vec<String> = std::fs::read_dir(broken_dir())
@@ -328,6 +329,7 @@ fn every_code_has_a_fixture() {
         .collect();
     let missing: Vec<String> = codes::ALL
         .iter()
+        .filter(|c| &c.id[1..3] != "04")
         .map(|c| format!("{}-{}", c.id, c.name))
         .filter(|stem| {
             !names.iter().any(|n| {

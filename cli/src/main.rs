@@ -2,6 +2,7 @@
 //! prints; all the language knowledge lives in `hipop-analyzer`.
 
 mod check;
+mod diff;
 mod inputs;
 mod render;
 
@@ -36,8 +37,60 @@ enum Command {
     /// Exit status: 0 when no error is found (and no warning with `--deny warnings`),
     /// 1 when some are, 2 on a usage or I/O error (bad path, unreadable or non-UTF-8 file).
     Check(CheckArgs),
+    /// Compare two plans of the same mission: actions removed, added and
+    /// retimed, per agent, methods changed, and the stability figures.
+    ///
+    /// Plans may be in any format hipop reads (VAL, IPC 2020 hierarchical,
+    /// timed hierarchical, JSON; docs/plan-formats.md), not necessarily the same.
+    /// The HiPOP paper's instability counts the actions removed, added and
+    /// retimed; Fox et al.'s distance |A∖B| + |B∖A| those removed and added.
+    ///
+    /// Exit status, like diff(1): 0 when the plans are the same, 1 when they
+    /// differ, 2 on a usage, I/O or plan syntax error.
+    Diff(DiffArgs),
     /// Run the language server on standard input and output (for editors).
     Lsp,
+}
+
+#[derive(Debug, clap::Args)]
+struct DiffArgs {
+    /// The plan before (a repair, say).
+    plan_a: std::path::PathBuf,
+    /// The plan after.
+    plan_b: std::path::PathBuf,
+    /// The domain of the plans: groups the changes by agent, the `:agent`
+    /// parameters of each action and task. Without it, steps have an unknown
+    /// agent (JSON plans give theirs).
+    #[arg(long, value_name = "FILE")]
+    domain: Option<std::path::PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = diff::DiffFormat::Human)]
+    format: diff::DiffFormat,
+    /// The plans' format, when its detection from their content is not wanted.
+    #[arg(long, value_enum, default_value_t = PlanFormatArg::Auto)]
+    plan_format: PlanFormatArg,
+    /// How much a start time or a duration may change before the step counts as retimed.
+    #[arg(long, value_name = "DURATION", default_value_t = 0.001, value_parser = parse_tolerance)]
+    tolerance: f64,
+    /// Compare names like pandaPIparser's `-l`: `-` and `_` interchangeable
+    /// (case is always ignored, as in PDDL).
+    #[arg(long)]
+    lenient: bool,
+    /// When to use colours in diagnostics.
+    #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
+    color: ColorWhen,
+}
+
+/// A plan format, or its detection from the content.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum PlanFormatArg {
+    Auto,
+    /// VAL's `time: (action args) [duration]`, or a sequential plan.
+    Val,
+    /// IPC 2020 (`==>` … `root` … `<==`), with or without timing annotations.
+    Hierarchical,
+    /// hipop's JSON plan.
+    Json,
 }
 
 #[derive(Debug, clap::Args)]
@@ -138,6 +191,22 @@ fn main() -> ExitCode {
                 fix: args.fix,
             };
             ExitCode::from(check::run(&args.paths, &options))
+        }
+        Command::Diff(args) => {
+            let options = diff::Options {
+                format: args.format,
+                color: args.color,
+                domain: args.domain,
+                plan_format: match args.plan_format {
+                    PlanFormatArg::Auto => None,
+                    PlanFormatArg::Val => Some(hipop_analyzer::plan::PlanFormat::Val),
+                    PlanFormatArg::Hierarchical => Some(hipop_analyzer::plan::PlanFormat::Hierarchical),
+                    PlanFormatArg::Json => Some(hipop_analyzer::plan::PlanFormat::Json),
+                },
+                tolerance: args.tolerance,
+                lenient: args.lenient,
+            };
+            ExitCode::from(diff::run(&args.plan_a, &args.plan_b, &options))
         }
         Command::Lsp => match hipop_lsp::run_stdio() {
             Ok(()) => ExitCode::SUCCESS,

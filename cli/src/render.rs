@@ -41,7 +41,7 @@ impl Sources {
         s
     }
 
-    fn id(&self, file: SourceFile) -> Option<usize> {
+    pub(crate) fn id(&self, file: SourceFile) -> Option<usize> {
         self.ids.get(&file).copied()
     }
 
@@ -49,12 +49,16 @@ impl Sources {
         self.id(file).map(|i| self.paths[i].clone()).unwrap_or_default()
     }
 
+    pub(crate) fn path_of(&self, file: SourceFile) -> String {
+        self.path(file)
+    }
+
     fn text(&self, id: usize) -> &str {
         self.files.get(id).map(|f| f.source().as_ref()).unwrap_or("")
     }
 
     /// 1-based line and column (in characters) of a byte offset.
-    fn line_col(&self, id: usize, offset: usize) -> (usize, usize) {
+    pub(crate) fn line_col(&self, id: usize, offset: usize) -> (usize, usize) {
         let starts = &self.line_starts[id];
         let line = starts.partition_point(|&s| s <= offset).saturating_sub(1);
         let text = self.text(id);
@@ -83,28 +87,9 @@ impl Rendered<'_> {
     }
 
     pub fn human(&self, color: ColorWhen) {
-        let choice = match color {
-            ColorWhen::Always => ColorChoice::Always,
-            ColorWhen::Never => ColorChoice::Never,
-            ColorWhen::Auto => {
-                if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-                    ColorChoice::Auto
-                } else {
-                    ColorChoice::Never
-                }
-            }
-        };
-        let stream = StandardStream::stderr(choice);
+        let stream = StandardStream::stderr(color_choice(color));
         let mut out = stream.lock();
-        let config = term::Config::default();
-        for (path, message) in self.io_errors {
-            let _ = writeln!(out, "error: {path}: {message}");
-        }
-        for d in self.diagnostics {
-            if let Some(cs) = self.to_codespan(d) {
-                let _ = term::emit_to_write_style(&mut out, &config, &self.sources.files, &cs);
-            }
-        }
+        self.emit_human(&mut out);
         let (e, w) = self.counts();
         let plural = |n: usize| if n == 1 { "" } else { "s" };
         let unreadable = self.io_errors.len();
@@ -128,6 +113,19 @@ impl Rendered<'_> {
                 plural(w)
             )
         };
+    }
+
+    /// The I/O errors and diagnostics, compiler-style, without the summary line.
+    pub fn emit_human(&self, out: &mut dyn codespan_reporting::term::WriteStyle) {
+        let config = term::Config::default();
+        for (path, message) in self.io_errors {
+            let _ = writeln!(out, "error: {path}: {message}");
+        }
+        for d in self.diagnostics {
+            if let Some(cs) = self.to_codespan(d) {
+                let _ = term::emit_to_write_style(out, &config, &self.sources.files, &cs);
+            }
+        }
     }
 
     fn to_codespan(&self, d: &Diagnostic) -> Option<CsDiagnostic<usize>> {
@@ -303,8 +301,23 @@ impl Rendered<'_> {
     }
 }
 
+/// Colours on stderr: `auto` means when it is a terminal.
+pub fn color_choice(color: ColorWhen) -> ColorChoice {
+    match color {
+        ColorWhen::Always => ColorChoice::Always,
+        ColorWhen::Never => ColorChoice::Never,
+        ColorWhen::Auto => {
+            if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+                ColorChoice::Auto
+            } else {
+                ColorChoice::Never
+            }
+        }
+    }
+}
+
 /// Prints to stdout; a closed pipe (`hipop check … | head`) ends the output quietly.
-fn print_stdout(text: &str) {
+pub fn print_stdout(text: &str) {
     let mut out = std::io::stdout().lock();
     if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
         std::process::exit(0);
