@@ -177,6 +177,14 @@ impl<'a> Cx<'a> {
             .map_err(|_| (self.range(raw), format!("{what}, found `{}`", Self::shown(raw))))
     }
 
+    /// A JSON object (serde would also read a struct from an array, by position).
+    fn object<T: Deserialize<'a>>(&self, raw: &'a RawValue, what: &str) -> Result<T, Fail> {
+        if !raw.get().starts_with('{') {
+            return Err((self.range(raw), format!("{what}, found `{}`", Self::shown(raw))));
+        }
+        self.borrow(raw, what)
+    }
+
     fn required(
         &self,
         raw: Option<&'a RawValue>,
@@ -234,12 +242,28 @@ impl<'a> Cx<'a> {
 pub fn read(text: &str) -> Plan {
     let mut plan = Plan::new(PlanFormat::Json);
     let cx = Cx { text };
+    let first = text.trim_start_matches(['\u{feff}', ' ', '\t', '\r', '\n']);
+    if !first.is_empty() && !first.starts_with('{') {
+        let at = text.len() - first.len();
+        let end = first.chars().next().map_or(at, |c| at + c.len_utf8());
+        plan.diag(
+            MALFORMED_JSON_PLAN,
+            range(at, end),
+            "this is not a JSON plan: a JSON plan is an object with `format`, `version` and `steps`",
+        );
+        return plan;
+    }
     let doc: RawDoc<'_> = match serde_json::from_str(text) {
         Ok(d) => d,
         Err(e) => {
             let at = error_offset(text, &e);
-            let message = e.to_string();
-            let message = message.split(" at line ").next().unwrap_or(&message).to_string();
+            let message = if e.classify() == serde_json::error::Category::Data {
+                // Valid JSON of another shape: serde's message would name our types.
+                "a JSON plan is an object with `format`, `version` and `steps`".to_string()
+            } else {
+                let m = e.to_string();
+                m.split(" at line ").next().unwrap_or(&m).to_string()
+            };
             let end = text[at..].chars().next().map_or(at, |c| at + c.len_utf8());
             plan.diag(MALFORMED_JSON_PLAN, range(at, end), format!("this is not a JSON plan: {message}"));
             return plan;
@@ -265,7 +289,7 @@ pub fn read(text: &str) -> Plan {
                 match step(&cx, s) {
                     Ok(step) => plan.steps.push(step),
                     Err((r, m)) => {
-                        let id = cx.borrow::<RawStep<'_>>(s, "").ok().and_then(|st| cx.id(st.id?).ok());
+                        let id = cx.object::<RawStep<'_>>(s, "").ok().and_then(|st| cx.id(st.id?).ok());
                         plan.unreadable.extend(id.map(|id| id.value));
                         plan.diag(MALFORMED_STEP, r, m);
                     }
@@ -348,7 +372,7 @@ fn header(cx: &Cx<'_>, doc: &RawDoc<'_>, whole: TextRange) -> Result<(), Fail> {
 }
 
 fn problem<'a>(cx: &Cx<'a>, raw: &'a RawValue) -> Result<ProblemRef, Fail> {
-    let p: RawProblem<'a> = cx.borrow(raw, "`problem` must be an object")?;
+    let p: RawProblem<'a> = cx.object(raw, "`problem` must be an object")?;
     let name = |r: Option<&RawValue>, what: &str| r.map(|r| cx.symbol(r, what)).transpose();
     Ok(ProblemRef {
         domain: name(p.domain, "`domain` must be the domain's name")?,
@@ -358,7 +382,7 @@ fn problem<'a>(cx: &Cx<'a>, raw: &'a RawValue) -> Result<ProblemRef, Fail> {
 }
 
 fn step<'a>(cx: &Cx<'a>, raw: &'a RawValue) -> Result<Step, Fail> {
-    let s: RawStep<'a> = cx.borrow(raw, "a step is a JSON object")?;
+    let s: RawStep<'a> = cx.object(raw, "a step is a JSON object")?;
     let at = cx.range(raw);
     let id = cx.id(cx.required(s.id, at, "id", "every step has an integer `id`")?)?;
     let name = cx.symbol(
@@ -399,7 +423,7 @@ fn step<'a>(cx: &Cx<'a>, raw: &'a RawValue) -> Result<Step, Fail> {
     }
     let bounds = match s.bounds {
         Some(b) => {
-            let rb: RawBounds<'a> = cx.borrow(b, "`bounds` must be an object with `start` and `end`")?;
+            let rb: RawBounds<'a> = cx.object(b, "`bounds` must be an object with `start` and `end`")?;
             Some(Bounds {
                 start: rb.start.map(|r| cx.interval(r)).transpose()?.unwrap_or_default(),
                 end: rb.end.map(|r| cx.interval(r)).transpose()?.unwrap_or_default(),
@@ -432,7 +456,7 @@ fn step<'a>(cx: &Cx<'a>, raw: &'a RawValue) -> Result<Step, Fail> {
 
 fn causal_link<'a>(cx: &Cx<'a>, raw: &'a RawValue) -> Result<CausalLink, Fail> {
     let l: RawCausalLink<'a> =
-        cx.borrow(raw, "a causal link is an object with `from`, `to` and `literal`")?;
+        cx.object(raw, "a causal link is an object with `from`, `to` and `literal`")?;
     let at = cx.range(raw);
     let end = |r: &RawValue, problem: &str| -> Result<LinkEnd, Fail> {
         if r.get() == format!("\"{problem}\"") {
@@ -445,7 +469,7 @@ fn causal_link<'a>(cx: &Cx<'a>, raw: &'a RawValue) -> Result<CausalLink, Fail> {
         end(cx.required(l.from, at, "from", "the step that achieves the literal, or \"init\"")?, "init")?;
     let to = end(cx.required(l.to, at, "to", "the step that needs the literal, or \"goal\"")?, "goal")?;
     let lit = cx.required(l.literal, at, "literal", "the literal the link protects")?;
-    let rl: RawLiteral<'a> = cx.borrow(lit, "a literal is an object with `predicate`, `args`, `negated`")?;
+    let rl: RawLiteral<'a> = cx.object(lit, "a literal is an object with `predicate`, `args`, `negated`")?;
     let predicate = cx.symbol(
         cx.required(rl.predicate, cx.range(lit), "predicate", "the literal's predicate")?,
         "`predicate` must be a predicate's name",
@@ -466,7 +490,7 @@ fn time_point<'a>(cx: &Cx<'a>, raw: &'a RawValue) -> Result<TimePoint, Fail> {
         return Ok(TimePoint::Origin);
     }
     let what = "a time point is \"origin\" or `{\"step\": ID, \"point\": \"start\" | \"end\"}`";
-    let p: RawTimePoint<'a> = cx.borrow(raw, what)?;
+    let p: RawTimePoint<'a> = cx.object(raw, what)?;
     let at = cx.range(raw);
     let step = cx.id(cx.required(p.step, at, "step", what)?)?;
     let point = cx.required(p.point, at, "point", what)?;
@@ -485,7 +509,7 @@ fn time_point<'a>(cx: &Cx<'a>, raw: &'a RawValue) -> Result<TimePoint, Fail> {
 
 fn temporal_link<'a>(cx: &Cx<'a>, raw: &'a RawValue) -> Result<TemporalLink, Fail> {
     let l: RawTemporalLink<'a> =
-        cx.borrow(raw, "a temporal link is an object with `from`, `to`, `min`, `max`")?;
+        cx.object(raw, "a temporal link is an object with `from`, `to`, `min`, `max`")?;
     let at = cx.range(raw);
     let from = time_point(cx, cx.required(l.from, at, "from", "the earlier time point")?)?;
     let to = time_point(cx, cx.required(l.to, at, "to", "the later time point")?)?;

@@ -103,3 +103,16 @@ fn problem_hash_ignores_layout_and_comments() {
     // The domain and the problem are told apart.
     assert_ne!(json::problem_hash(p, d), h);
 }
+
+#[test]
+fn json_of_another_shape_says_what_a_plan_is() {
+    let plan = read_plan("[1, 2]", Some(PlanFormat::Json));
+    assert_eq!(plan.diagnostics.len(), 1);
+    assert_eq!(plan.diagnostics[0].code.id, "E0406");
+    assert!(
+        plan.diagnostics[0].message.contains("an object with `format`"),
+        "{}",
+        plan.diagnostics[0].message
+    );
+    assert!(!plan.diagnostics[0].message.contains("RawDoc"));
+}
