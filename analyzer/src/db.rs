@@ -261,9 +261,20 @@ fn defines(root: &rowan::GreenNodeData) -> impl Iterator<Item = GList<'_>> {
     })
 }
 
-/// The `define` units of a file and their items.
+/// Whether a path names a plan file (docs/plan-formats.md): `.plan`, `.soln`,
+/// `.sol`, or `.plan.json`. Plans are read by [`crate::plan`], not parsed as
+/// PDDL, and are not domains or problems of the workspace.
+pub fn is_plan_path(path: &str) -> bool {
+    let name = path.rsplit(['/', '\\']).next().unwrap_or(path).to_ascii_lowercase();
+    [".plan", ".soln", ".sol", ".plan.json"].iter().any(|ext| name.ends_with(ext))
+}
+
+/// The `define` units of a file and their items (none in a plan file).
 #[salsa::tracked(returns(ref))]
 pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
+    if is_plan_path(file.path(db)) {
+        return Vec::new();
+    }
     let root = &parse(db, file).green.0;
     let mut units = Vec::new();
     for (index, list) in defines(root).enumerate() {
@@ -328,6 +339,9 @@ pub fn lower_item<'db>(db: &'db dyn Db, item: Item<'db>) -> Lowered {
 /// Diagnostics about the file's top level: syntax errors and what is not a `define`.
 #[salsa::tracked(returns(ref))]
 pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
+    if is_plan_path(file.path(db)) {
+        return crate::plan::plan_file_diagnostics(db, file);
+    }
     let parse = parse(db, file);
     let mut out: Vec<Diagnostic> = parse
         .errors

@@ -431,3 +431,25 @@ proptest! {
         read_every_way(&text);
     }
 }
+
+/// A plan file of the workspace is read as a plan (not as PDDL), is not a
+/// domain or problem of the workspace, and is matched with its problem by
+/// name: the problem file whose name is the longest prefix of the plan's.
+#[test]
+fn plan_files_in_the_workspace_are_plans_of_the_problem_their_name_starts_with() {
+    use hipop_analyzer::semantics::resolve::plan_problem;
+    let mut host = hipop_analyzer::AnalysisHost::new();
+    let domain = "(define (domain d) (:predicates (p)) (:action a :parameters () :effect (p)))";
+    host.set_file_text("/w/domain.pddl", domain);
+    host.set_file_text("/w/p01.pddl", "(define (problem p01) (:domain d) (:init) (:goal (p)))");
+    host.set_file_text("/w/p0.pddl", "(define (problem p0) (:domain d) (:init) (:goal (p)))");
+    let plan = host.set_file_text("/w/p01.aries.plan", "0: (a) [1]\n1: (a b c\n");
+    let lone = host.set_file_text("/elsewhere/x.plan", "(a)\n");
+    let db = host.db();
+    let unit = plan_problem(db, plan).expect("a problem");
+    assert_eq!(unit.name(db).as_deref(), Some("p01"));
+    assert_eq!(plan_problem(db, lone), None);
+    let codes: Vec<&str> =
+        host.analysis().diagnostics(plan).unwrap().iter().map(|d| d.code.id).collect::<Vec<_>>();
+    assert_eq!(codes, ["E0401"], "read as a plan, not as PDDL");
+}
