@@ -12,6 +12,7 @@ pub mod ide;
 pub mod model;
 pub mod semantics;
 pub mod syntax;
+pub mod validate;
 pub mod verify;
 
 pub use db::SourceFile;

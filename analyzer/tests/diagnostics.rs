@@ -319,7 +319,10 @@ fn recovery_fixtures() {
     });
 }
 
-/// Every code of the registry has a fixture named after it.
+/// Every code of the registry has a fixture named after it. The codes of
+/// temporal plan validation (E0410–E0429, W0410–W0429) are about plans, which
+/// `hipop check` does not read: their fixtures are plans in `tests/validate/`
+/// (`analyzer/tests/validate.rs`).
 #[test]
 fn every_code_has_a_fixture() {
     let names: Vec<String> = std::fs::read_dir(broken_dir())
@@ -328,6 +331,7 @@ fn every_code_has_a_fixture() {
         .collect();
     let missing: Vec<String> = codes::ALL
         .iter()
+        .filter(|c| !(410..430).contains(&c.id[1..].parse::<u32>().unwrap_or(0)))
         .map(|c| format!("{}-{}", c.id, c.name))
         .filter(|stem| {
             !names.iter().any(|n| {
