@@ -319,8 +319,10 @@ fn recovery_fixtures() {
     });
 }
 
-/// Every code of the registry has a fixture named after it (the plan codes,
-/// E04xx and W04xx, have theirs in `tests/plans/`: see `tests/plans.rs`).
+/// Every code of the registry has a fixture named after it. The plan codes
+/// (E04xx, W04xx) are about plans, which `hipop check` does not read: their
+/// fixtures are in `tests/plans/` (reading, `tests/plans.rs`) and
+/// `tests/validate/` (validation, `tests/validate.rs`).
 #[test]
 fn every_code_has_a_fixture() {
     let names: Vec<String> = std::fs::read_dir(broken_dir())
