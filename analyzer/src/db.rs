@@ -55,6 +55,9 @@ pub struct Settings {
     /// in the unit of durations.
     #[returns(copy)]
     pub triangle_tolerance: f64,
+    /// How plan files of the workspace are validated (tolerance, names).
+    #[returns(copy)]
+    pub plan_options: crate::validate::Options,
 }
 
 impl Settings {
@@ -66,6 +69,11 @@ impl Settings {
 /// The triangle tolerance in force.
 pub fn triangle_tolerance(db: &dyn Db) -> f64 {
     Settings::try_get(db).map_or(Settings::DEFAULT_TRIANGLE_TOLERANCE, |s| s.triangle_tolerance(db))
+}
+
+/// The plan-validation options in force.
+pub fn plan_options(db: &dyn Db) -> crate::validate::Options {
+    Settings::try_get(db).map_or_else(crate::validate::Options::default, |s| s.plan_options(db))
 }
 
 /// Parses a file. Not compared for backdating: the tree changes whenever the text does.
@@ -340,7 +348,7 @@ pub fn lower_item<'db>(db: &'db dyn Db, item: Item<'db>) -> Lowered {
 #[salsa::tracked(returns(ref))]
 pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
     if is_plan_path(file.path(db)) {
-        return crate::plan::plan_file_diagnostics(db, file);
+        return crate::validate::plan_file_diagnostics(db, file).clone();
     }
     let parse = parse(db, file);
     let mut out: Vec<Diagnostic> = parse

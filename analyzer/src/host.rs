@@ -47,13 +47,29 @@ impl AnalysisHost {
         } else {
             Settings::DEFAULT_TRIANGLE_TOLERANCE
         };
-        match self.settings {
-            Some(s) if s.triangle_tolerance(&self.db) != tolerance => {
-                s.set_triangle_tolerance(&mut self.db).to(tolerance);
-            }
-            Some(_) => {}
-            None => self.settings = Some(Settings::new(&self.db, tolerance)),
+        let s = self.settings();
+        if s.triangle_tolerance(&self.db) != tolerance {
+            s.set_triangle_tolerance(&mut self.db).to(tolerance);
         }
+    }
+
+    /// Sets how plan files of the workspace are validated (VAL's tolerance,
+    /// lenient names); a negative or non-finite tolerance is replaced by the default.
+    pub fn set_plan_options(&mut self, mut options: crate::validate::Options) {
+        if !(options.tolerance.is_finite() && options.tolerance >= 0.0) {
+            options.tolerance = crate::validate::Options::DEFAULT_TOLERANCE;
+        }
+        let s = self.settings();
+        if s.plan_options(&self.db) != options {
+            s.set_plan_options(&mut self.db).to(options);
+        }
+    }
+
+    /// The settings input, created with the defaults the first time.
+    fn settings(&mut self) -> Settings {
+        *self.settings.get_or_insert_with(|| {
+            Settings::new(&self.db, Settings::DEFAULT_TRIANGLE_TOLERANCE, crate::validate::Options::default())
+        })
     }
 
     pub fn file(&self, path: &str) -> Option<SourceFile> {
@@ -264,6 +280,25 @@ impl Analysis {
         self.with_db(|db| match format {
             Some(f) => crate::plan::parse_plan_as(db, file, f).clone(),
             None => crate::plan::parse_plan(db, file).clone(),
+        })
+    }
+
+    /// Validates the plan in `plan` (read in `format`, or the format its
+    /// content shows) against the first problem of the file `problem`, and
+    /// that problem's domain. `None` when that file has no problem.
+    pub fn validate_plan(
+        &self,
+        plan: SourceFile,
+        format: Option<PlanFormat>,
+        problem: SourceFile,
+        options: &crate::validate::Options,
+    ) -> Cancellable<Option<crate::validate::Validation>> {
+        self.with_db(|db| {
+            let unit = crate::db::file_units(db, problem)
+                .iter()
+                .copied()
+                .find(|u| u.kind(db) == crate::db::UnitKind::Problem)?;
+            Some(crate::validate::validate_plan(db, plan, format, unit, options))
         })
     }
 

@@ -36,11 +36,12 @@ pub struct Options {
 /// The label of steps whose agent is unknown.
 const UNKNOWN_AGENT: &str = "(unknown agent)";
 
-/// Reads one file for `hipop diff`; `Err` is the message of an I/O problem.
-fn read(path: &Path) -> Result<String, String> {
+/// Reads one file given on the command line (`what`: "a plan file"); `Err`
+/// is the message of an I/O problem.
+pub(crate) fn read(path: &Path, what: &str) -> Result<String, String> {
     let shown = path.display();
     match std::fs::metadata(path) {
-        Ok(m) if m.is_dir() => return Err(format!("{shown}: is a folder, expected a plan file")),
+        Ok(m) if m.is_dir() => return Err(format!("{shown}: is a folder, expected {what}")),
         Ok(_) => {}
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(format!("{shown}: no such file")),
         Err(e) => return Err(format!("{shown}: cannot read: {e}")),
@@ -57,7 +58,7 @@ fn read(path: &Path) -> Result<String, String> {
 pub fn run(path_a: &Path, path_b: &Path, options: &Options) -> u8 {
     let mut host = AnalysisHost::new();
     let mut io_errors = Vec::new();
-    let mut load = |host: &mut AnalysisHost, path: &Path| match read(path) {
+    let mut load = |host: &mut AnalysisHost, path: &Path| match read(path, "a plan file") {
         Ok(text) => Some(host.set_file_text(&path.display().to_string(), text)),
         Err(m) => {
             io_errors.push(m);

@@ -5,6 +5,7 @@ mod check;
 mod diff;
 mod inputs;
 mod render;
+mod validate;
 
 use std::process::ExitCode;
 
@@ -48,6 +49,20 @@ enum Command {
     /// Exit status, like diff(1): 0 when the plans are the same, 1 when they
     /// differ, 2 on a usage, I/O or plan syntax error.
     Diff(DiffArgs),
+    /// Validate plans against a domain and a problem, like VAL (PDDL 2.1
+    /// temporal and sequential plans) and pandaPIparser's verifier
+    /// (hierarchical plans).
+    ///
+    /// Plans may be in any format hipop reads (VAL, IPC 2020 hierarchical,
+    /// timed hierarchical, JSON; docs/plan-formats.md). Each failure is
+    /// reported at the step of the plan with what failed, why, and a hint
+    /// (docs/validation-temporal.md).
+    ///
+    /// Exit status: 0 when every plan is valid (with `--expect invalid`: when
+    /// every plan is invalid), 1 when some plan is not, 2 on a usage or I/O
+    /// error, a plan that cannot be read, or a domain or problem with errors.
+    /// With several plans, the worst status.
+    Validate(ValidateArgs),
     /// Run the language server on standard input and output (for editors).
     Lsp,
 }
@@ -81,6 +96,42 @@ struct DiffArgs {
     color: ColorWhen,
 }
 
+#[derive(Debug, clap::Args)]
+struct ValidateArgs {
+    /// The domain file.
+    domain: std::path::PathBuf,
+    /// The problem file (its first problem is used).
+    problem: std::path::PathBuf,
+    /// One or more plan files.
+    #[arg(required = true)]
+    plans: Vec<std::path::PathBuf>,
+    /// VAL's `-t`: events closer than a tenth of it are one happening, and a
+    /// duration may miss its constraint by less than it.
+    #[arg(short = 't', long, value_name = "DURATION", default_value_t = 0.01, value_parser = parse_tolerance)]
+    tolerance: f64,
+    /// Like pandaPIparser's `-l`: in names, `-` and `_` are interchangeable
+    /// (case is always ignored, as in PDDL).
+    #[arg(short = 'l', long)]
+    lenient: bool,
+    /// Like VAL's `-c`: keep executing after a failure to find the later ones
+    /// (which may be consequences of the first).
+    #[arg(short = 'c', long)]
+    keep_going: bool,
+    /// The verdict the plans should have: `invalid` for regression suites of
+    /// known-bad plans (exit 0 when each plan is invalid).
+    #[arg(long, value_enum, default_value_t = validate::Expect::Valid)]
+    expect: validate::Expect,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    format: Format,
+    /// The plans' format, when its detection from their content is not wanted.
+    #[arg(long, value_enum, default_value_t = PlanFormatArg::Auto)]
+    plan_format: PlanFormatArg,
+    /// When to use colours in human output.
+    #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
+    color: ColorWhen,
+}
+
 /// A plan format, or its detection from the content.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum PlanFormatArg {
@@ -91,6 +142,18 @@ enum PlanFormatArg {
     Hierarchical,
     /// hipop's JSON plan.
     Json,
+}
+
+impl PlanFormatArg {
+    fn format(self) -> Option<hipop_analyzer::plan::PlanFormat> {
+        use hipop_analyzer::plan::PlanFormat;
+        match self {
+            PlanFormatArg::Auto => None,
+            PlanFormatArg::Val => Some(PlanFormat::Val),
+            PlanFormatArg::Hierarchical => Some(PlanFormat::Hierarchical),
+            PlanFormatArg::Json => Some(PlanFormat::Json),
+        }
+    }
 }
 
 #[derive(Debug, clap::Args)]
@@ -197,16 +260,25 @@ fn main() -> ExitCode {
                 format: args.format,
                 color: args.color,
                 domain: args.domain,
-                plan_format: match args.plan_format {
-                    PlanFormatArg::Auto => None,
-                    PlanFormatArg::Val => Some(hipop_analyzer::plan::PlanFormat::Val),
-                    PlanFormatArg::Hierarchical => Some(hipop_analyzer::plan::PlanFormat::Hierarchical),
-                    PlanFormatArg::Json => Some(hipop_analyzer::plan::PlanFormat::Json),
-                },
+                plan_format: args.plan_format.format(),
                 tolerance: args.tolerance,
                 lenient: args.lenient,
             };
             ExitCode::from(diff::run(&args.plan_a, &args.plan_b, &options))
+        }
+        Command::Validate(args) => {
+            let options = validate::Options {
+                format: args.format,
+                color: args.color,
+                plan_format: args.plan_format.format(),
+                validate: hipop_analyzer::validate::Options {
+                    tolerance: args.tolerance,
+                    lenient: args.lenient,
+                    keep_going: args.keep_going,
+                },
+                expect: args.expect,
+            };
+            ExitCode::from(validate::run(&args.domain, &args.problem, &args.plans, &options))
         }
         Command::Lsp => match hipop_lsp::run_stdio() {
             Ok(()) => ExitCode::SUCCESS,

@@ -167,8 +167,19 @@ impl Rendered<'_> {
     }
 
     pub fn json(&self) {
-        let diags: Vec<Value> = self
-            .diagnostics
+        let (e, w) = self.counts();
+        let doc = json!({
+            "version": 1,
+            "diagnostics": self.json_diagnostics(),
+            "io_errors": self.io_errors.iter().map(|(p, m)| json!({"path": p, "message": m})).collect::<Vec<_>>(),
+            "summary": { "files": self.files, "errors": e, "warnings": w },
+        });
+        print_stdout(&serde_json::to_string_pretty(&doc).unwrap_or_default());
+    }
+
+    /// Each diagnostic as JSON (the `diagnostics` of `--format json`, docs/cli.md).
+    pub fn json_diagnostics(&self) -> Vec<Value> {
+        self.diagnostics
             .iter()
             .map(|d| {
                 json!({
@@ -190,15 +201,7 @@ impl Rendered<'_> {
                     })),
                 })
             })
-            .collect();
-        let (e, w) = self.counts();
-        let doc = json!({
-            "version": 1,
-            "diagnostics": diags,
-            "io_errors": self.io_errors.iter().map(|(p, m)| json!({"path": p, "message": m})).collect::<Vec<_>>(),
-            "summary": { "files": self.files, "errors": e, "warnings": w },
-        });
-        print_stdout(&serde_json::to_string_pretty(&doc).unwrap_or_default());
+            .collect()
     }
 
     fn sarif_region(&self, file: SourceFile, r: TextRange) -> Value {

@@ -414,3 +414,61 @@ fn diff_reports_malformed_plans_with_their_place() {
     assert_eq!(status(&o), 2);
     assert!(stderr(&o).contains("no `(define (domain"), "{}", stderr(&o));
 }
+
+/// The VAL Depots sample (`../shared/corpora/val-samples`), relative to the
+/// workspace root, or `None` (with a visible message) when the corpus is absent.
+fn depots_sample() -> Option<[&'static str; 3]> {
+    const DIR: &str = "../shared/corpora/val-samples/samples/IPC/Depots/Strips";
+    if !workspace_root().join(DIR).is_dir() {
+        eprintln!("SKIP: ../shared/corpora is absent");
+        return None;
+    }
+    Some([
+        "../shared/corpora/val-samples/samples/IPC/Depots/Strips/Depots.pddl",
+        "../shared/corpora/val-samples/samples/IPC/Depots/Strips/pfile1",
+        "../shared/corpora/val-samples/samples/IPC/Depots/Strips/pfile1.plan",
+    ])
+}
+
+#[test]
+fn validate_agrees_with_val_on_the_depots_sample_and_its_tolerance() {
+    let Some([d, p, plan]) = depots_sample() else { return };
+    // Steps 0.001 apart: one happening at VAL's default tolerance 0.01.
+    let o = hipop(&["validate", d, p, plan, "--color", "never"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("error[E0418]"), "{}", stderr(&o));
+    assert!(stderr(&o).ends_with("pfile1.plan: invalid: 3 errors\n"), "{}", stderr(&o));
+    let o = hipop(&["validate", d, p, plan, "-t", "0.0001"]);
+    assert_eq!(status(&o), 0, "{}", stderr(&o));
+    assert!(stderr(&o).contains("pfile1.plan: valid: makespan 0.004"), "{}", stderr(&o));
+    // A regression suite of known-bad plans.
+    let o = hipop(&["validate", d, p, plan, "--expect", "invalid"]);
+    assert_eq!(status(&o), 0, "{}", stderr(&o));
+    assert!(stderr(&o).contains("invalid (as expected)"), "{}", stderr(&o));
+}
+
+#[test]
+fn validate_json_reports_each_plan_and_the_worst_status() {
+    let Some([d, p, plan]) = depots_sample() else { return };
+    let o = hipop(&["validate", d, p, plan, "no/such.plan", "--format", "json", "-t", "0.0001"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 2, "an unreadable plan is a usage error: {}", stderr(&o));
+    let doc: Value = serde_json::from_str(&stdout(&o)).expect("one JSON document");
+    let verdicts: Vec<&str> =
+        doc["plans"].as_array().unwrap().iter().map(|p| p["verdict"].as_str().unwrap()).collect();
+    assert_eq!(verdicts, ["valid", "unreadable"]);
+    assert_eq!(doc["plans"][1]["io_error"], "no/such.plan: no such file");
+}
+
+#[test]
+fn validate_refuses_a_model_with_errors_and_an_unreadable_plan() {
+    let o = hipop(&["validate", E0102, E0102, "tests/plans/ok/temporal.plan", "--color", "never"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 2);
+    assert!(stderr(&o).contains("fix them before validating plans"), "{}", stderr(&o));
+    let Some([d, p, _]) = depots_sample() else { return };
+    let o = hipop(&["validate", d, p, "tests/plans/E0401-malformed-step.plan", "--color", "never"]);
+    assert_eq!(status(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("not validated: the plan cannot be read"), "{}", stderr(&o));
+}

@@ -170,19 +170,24 @@ pub(crate) fn diagnostic(
         code: Some(lsp::NumberOrString::String(d.code.id.to_string())),
         code_description: None,
         source: Some("hipop".to_string()),
-        message: d.message.clone(),
+        message: match &d.fix {
+            // Advice without an edit (a repair hint): in the message, as the CLI's `help:`.
+            Some(f) if f.edits.is_empty() => format!("{}\nhelp: {}", d.message, f.message),
+            _ => d.message.clone(),
+        },
         related_information: (!related.is_empty()).then_some(related),
         tags: unused.then(|| vec![lsp::DiagnosticTag::UNNECESSARY]),
         data: None,
     })
 }
 
-/// The quick fix of a diagnostic, if it has one whose files all have URIs.
+/// The quick fix of a diagnostic, if it has one with edits whose files all
+/// have URIs (a fix without edits is advice, shown in the message only).
 pub(crate) fn quick_fix(
     d: &hipop_analyzer::Diagnostic,
     files: &mut Files<'_>,
 ) -> Cancellable<Option<lsp::CodeAction>> {
-    let Some(fix) = &d.fix else { return Ok(None) };
+    let Some(fix) = d.fix.as_ref().filter(|f| !f.edits.is_empty()) else { return Ok(None) };
     let mut changes: HashMap<lsp::Uri, Vec<lsp::TextEdit>> = HashMap::new();
     for (file, range, insert) in &fix.edits {
         let info = files.get(*file)?;

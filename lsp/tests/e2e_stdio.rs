@@ -384,3 +384,20 @@ fn requests_racing_with_changes() {
     assert!(versions.windows(2).all(|w| w[0] <= w[1]), "versions went back: {versions:?}");
     client.shutdown();
 }
+
+/// A plan open next to its domain and problem (found by its file name) is
+/// validated live: the failures are its diagnostics, and an edit that fixes
+/// the plan clears them.
+#[test]
+fn a_plan_is_validated_against_its_problem() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("plan"), json!({}));
+    let (uri, text) = read("plan/problem.plan");
+    client.open(&uri, &text);
+    let diags = client.diagnostics(&uri, Some(1));
+    assert_eq!(codes(&diags), ["E0419"], "{diags:#?}");
+    // Delete the drive back home (line 2).
+    client.change(&uri, 2, range(2, 0, 3, 0), "");
+    assert_eq!(client.diagnostics(&uri, Some(2)), Vec::<Value>::new());
+    client.shutdown();
+}

@@ -424,12 +424,6 @@ pub fn parse_plan(db: &dyn Db, file: SourceFile) -> Plan {
     read_plan(file.text(db), None)
 }
 
-/// The diagnostics of a plan file of the workspace (a path
-/// [`crate::db::is_plan_path`] accepts): what could not be read.
-pub fn plan_file_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
-    parse_plan(db, file).file_diagnostics(file)
-}
-
 /// The plan in a file, read in the given format whatever its content.
 #[salsa::tracked(returns(ref))]
 pub fn parse_plan_as(db: &dyn Db, file: SourceFile, format: PlanFormat) -> Plan {

@@ -6,6 +6,8 @@
 //! - `eval.rs`: ground states; conditions, numeric expressions and effects
 //!   evaluated in them.
 //! - `temporal.rs`: the happenings of a timed plan and the checks at each.
+//! - [`file`]: a plan file read and validated; the one entry point of the
+//!   CLI and the editor.
 //!
 //! The input is a list of [`TimedStep`]s that a plan reader produces (the
 //! reader is not here: any format that gives steps, times and durations with
@@ -42,7 +44,10 @@
 //! tolerance are accepted, as VAL accepts them, with the warning W0411.
 
 mod eval;
+pub mod file;
 mod temporal;
+
+pub use file::{Validation, plan_file_diagnostics, timed_steps, validate_plan};
 
 use rowan::TextRange;
 

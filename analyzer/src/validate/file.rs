@@ -1,0 +1,82 @@
+//! Validating a plan file: read it ([`crate::plan`]), find the steps the
+//! validators take, run them, and gather every diagnostic of the file. The
+//! one path for `hipop validate` and for plan files open in the editor.
+
+use crate::db::{Db, SourceFile, Unit};
+use crate::diagnostic::{Diagnostic, Severity};
+use crate::plan::{Plan, PlanFormat, Step};
+
+use super::{Options, TimedStep, validate_temporal};
+
+/// What validating a plan file found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Validation {
+    /// The plan could be read and every check passed (warnings allowed).
+    pub valid: bool,
+    /// The plan was read without errors and validated (not only read).
+    pub checked: bool,
+    /// The time of the last happening.
+    pub makespan: Option<f64>,
+    /// The problem's metric on the plan (VAL's "Final value"), or the makespan.
+    pub value: Option<f64>,
+    /// Reading and validation diagnostics, in the plan file and the model's files.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// The primitive steps of a plan, as the temporal validator takes them, in
+/// the order of the file: a VAL plan's steps, a hierarchical plan's
+/// primitive steps (listed in execution order, the IPC 2020 convention;
+/// timed by hipop's annotations when it has them).
+pub fn timed_steps(plan: &Plan) -> Vec<TimedStep> {
+    plan.primitive_steps().map(|(_, s)| timed_step(s)).collect()
+}
+
+fn timed_step(s: &Step) -> TimedStep {
+    TimedStep {
+        name: s.name.text.to_string(),
+        args: s.args.iter().map(|a| a.text.to_string()).collect(),
+        time: s.start.as_ref().map(|n| n.value),
+        duration: s.duration.as_ref().map(|n| n.value),
+        span: s.range,
+        name_span: s.name.range,
+        arg_spans: s.args.iter().map(|a| a.range).collect(),
+        time_span: s.start.as_ref().map(|n| n.range),
+        duration_span: s.duration.as_ref().map(|n| n.range),
+    }
+}
+
+/// Reads `file` as a plan (in `format`, or the format its content shows) and
+/// validates it against `problem` and the problem's domain. A plan that
+/// cannot be read is not validated: its reading errors are the diagnostics.
+pub fn validate_plan<'db>(
+    db: &'db dyn Db,
+    file: SourceFile,
+    format: Option<PlanFormat>,
+    problem: Unit<'db>,
+    options: &Options,
+) -> Validation {
+    let plan = match format {
+        Some(f) => crate::plan::parse_plan_as(db, file, f),
+        None => crate::plan::parse_plan(db, file),
+    };
+    let mut diagnostics = plan.file_diagnostics(file);
+    if plan.has_errors() {
+        return Validation { valid: false, checked: false, makespan: None, value: None, diagnostics };
+    }
+    let report = validate_temporal(db, problem, &timed_steps(plan), options);
+    diagnostics.extend(report.to_diagnostics(db, file));
+    let valid = report.valid && diagnostics.iter().all(|d| d.severity != Severity::Error);
+    Validation { valid, checked: true, makespan: Some(report.makespan), value: report.value, diagnostics }
+}
+
+/// The diagnostics of a plan file of the workspace: reading it, and
+/// validating it against its problem when one is found
+/// ([`crate::semantics::resolve::plan_problem`]) with the options of the
+/// analysis's settings.
+#[salsa::tracked(returns(ref))]
+pub fn plan_file_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
+    match crate::semantics::resolve::plan_problem(db, file) {
+        Some(problem) => validate_plan(db, file, None, problem, &crate::db::plan_options(db)).diagnostics,
+        None => crate::plan::parse_plan(db, file).file_diagnostics(file),
+    }
+}
