@@ -40,6 +40,11 @@ test('two languages: hipop-pddl and hipop-plan', () => {
     pkg.contributes.languages.map((l) => l.id),
     ['hipop-pddl', 'hipop-plan'],
   );
+  assert.deepEqual(pkg.activationEvents, [
+    'onLanguage:hipop-pddl',
+    'onLanguage:hipop-plan',
+    'workspaceContains:**/*.plan.json',
+  ]);
 });
 
 test('one language id covers .pddl and .hddl', () => {
