@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Checks the editor integrations:
-#   - editors/helix/languages.toml parses as TOML (needs python3 >= 3.11)
+#   - editors/helix/languages.toml parses as TOML and declares the hipop-pddl,
+#     hipop-plan and hipop-plan-json languages with the hipop server; the
+#     queries it needs exist (needs python3 >= 3.11)
 #   - editors/vscode: npm ci && npm run compile && npm test
 # Exits non-zero on any failure. Missing node/npm (or python3 >= 3.11) is
 # reported as SKIP and does not fail the run.
@@ -11,17 +13,33 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 echo "== editors: helix/languages.toml"
 if command -v python3 >/dev/null 2>&1 && python3 -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else 1)'; then
   python3 - "$here/helix/languages.toml" <<'PY'
-import sys, tomllib
+import os, sys, tomllib
 path = sys.argv[1]
 with open(path, "rb") as f:
     conf = tomllib.load(f)
 server = conf["language-server"]["hipop"]
 assert server["command"] == "hipop" and server["args"] == ["lsp"], server
-[lang] = [l for l in conf["language"] if l["name"] == "hipop-pddl"]
-assert lang["scope"] == "source.hipop-pddl", lang
+names = [l["name"] for l in conf["language"]]
+assert names == ["hipop-pddl", "hipop-plan", "hipop-plan-json"], names
+langs = {l["name"]: l for l in conf["language"]}
+for name, lang in langs.items():
+    assert lang["language-servers"] == ["hipop"], lang
+    assert lang["scope"] == f"source.{name}", lang
+lang = langs["hipop-pddl"]
 assert lang["file-types"] == ["pddl", "hddl"], lang
-assert lang["language-servers"] == ["hipop"], lang
-print(f"ok: {path} parses as TOML and declares hipop-pddl with the hipop server")
+assert lang["comment-token"] == ";", lang
+# Plans: the names the server reads as plans (docs/plan-formats.md).
+lang = langs["hipop-plan"]
+assert lang["file-types"] == ["plan", "soln", "sol"], lang
+assert lang["comment-token"] == ";", lang
+lang = langs["hipop-plan-json"]
+assert lang["file-types"] == [{"glob": "*.plan.json"}], lang
+assert lang["grammar"] == "json", lang
+assert "comment-token" not in lang, lang
+query = os.path.join(os.path.dirname(path), "runtime", "queries", "hipop-plan-json", "highlights.scm")
+with open(query) as f:
+    assert f.read().strip() == "; inherits: json", query
+print(f"ok: {path} parses as TOML and declares hipop-pddl, hipop-plan and hipop-plan-json with the hipop server")
 PY
 else
   echo "SKIP: python3 >= 3.11 (tomllib) not found; helix/languages.toml not validated"

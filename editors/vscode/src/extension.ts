@@ -2,6 +2,7 @@
 
 import * as vscode from 'vscode';
 import {
+  DocumentFilter,
   LanguageClient,
   LanguageClientOptions,
   ServerOptions,
@@ -9,7 +10,34 @@ import {
 } from 'vscode-languageclient/node';
 import { resolveServerCommand } from './serverPath';
 
-const LANGUAGE_ID = 'hipop-pddl';
+const PDDL_LANGUAGE_ID = 'hipop-pddl';
+const PLAN_LANGUAGE_ID = 'hipop-plan';
+/**
+ * The names the server reads as plans (docs/plan-formats.md); it decides by
+ * the document's name, not by its language id, and parses anything else as
+ * PDDL.
+ */
+const PLAN_NAMES = '**/*.{plan,soln,sol,plan.json}';
+const JSON_PLAN_NAMES = '**/*.plan.json';
+
+/**
+ * The documents sent to the server.
+ *
+ * - Domains and problems: the `hipop-pddl` language (.pddl, .hddl).
+ * - Plans: the `hipop-plan` language (.plan, .soln, .sol). An untitled
+ *   document only when its name is a plan's: `Untitled-1` switched to
+ *   "Plan (hipop)" would be parsed as PDDL and drown in syntax errors.
+ * - JSON plans (.plan.json) keep VS Code's own JSON language (colouring,
+ *   folding, formatting); they are sent by name, whatever their language.
+ */
+export const DOCUMENT_SELECTOR: DocumentFilter[] = [
+  { scheme: 'file', language: PDDL_LANGUAGE_ID },
+  { scheme: 'untitled', language: PDDL_LANGUAGE_ID },
+  { scheme: 'file', language: PLAN_LANGUAGE_ID },
+  { scheme: 'untitled', language: PLAN_LANGUAGE_ID, pattern: PLAN_NAMES },
+  { scheme: 'file', pattern: JSON_PLAN_NAMES },
+  { scheme: 'untitled', pattern: JSON_PLAN_NAMES },
+];
 const CLIENT_ID = 'hipop'; // makes vscode-languageclient honour `hipop.trace.server`
 const CLIENT_NAME = 'hipop Language Server';
 const INSTALL_HINT = 'Install it with "cargo install --path cli" from the hipop repository, or point the "hipop.server.path" setting at the binary.';
@@ -96,10 +124,7 @@ async function start(): Promise<void> {
   };
   const serverOptions: ServerOptions = { run: executable, debug: executable };
   const clientOptions: LanguageClientOptions = {
-    documentSelector: [
-      { scheme: 'file', language: LANGUAGE_ID },
-      { scheme: 'untitled', language: LANGUAGE_ID },
-    ],
+    documentSelector: DOCUMENT_SELECTOR,
     outputChannel,
     traceOutputChannel: traceChannel,
   };

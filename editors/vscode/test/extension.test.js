@@ -103,3 +103,39 @@ test('changing hipop.server.* restarts with the new path; other settings do not'
 test('deactivate resolves when no server is running', async () => {
   await extension.deactivate();
 });
+
+test('the server gets domains, problems and plans (documentSelector)', () => {
+  assert.deepEqual(extension.DOCUMENT_SELECTOR, [
+    { scheme: 'file', language: 'hipop-pddl' },
+    { scheme: 'untitled', language: 'hipop-pddl' },
+    { scheme: 'file', language: 'hipop-plan' },
+    { scheme: 'untitled', language: 'hipop-plan', pattern: '**/*.{plan,soln,sol,plan.json}' },
+    { scheme: 'file', pattern: '**/*.plan.json' },
+    { scheme: 'untitled', pattern: '**/*.plan.json' },
+  ]);
+});
+
+test('the selector patterns name exactly the files the server reads as plans', (t) => {
+  const path = require('node:path');
+  if (typeof path.matchesGlob !== 'function') {
+    t.skip('path.matchesGlob needs Node >= 20.17');
+    return;
+  }
+  // Node's glob has the brace syntax of VS Code's; it warns that it is experimental.
+  const emitWarning = process.emitWarning;
+  process.emitWarning = (w, ...rest) =>
+    /glob/i.test(String(w)) ? undefined : emitWarning.call(process, w, ...rest);
+  try {
+    const patterns = extension.DOCUMENT_SELECTOR.filter((f) => f.pattern).map((f) => f.pattern);
+    const sent = (file) => patterns.some((p) => path.matchesGlob(file, p));
+    // The analyzer's is_plan_path: .plan, .soln, .sol, .plan.json.
+    for (const file of ['/w/p01.plan', '/w/instance-5.vhpop.plan', '/w/p01.soln', '/w/p01.sol', '/w/p01.plan.json']) {
+      assert.ok(sent(file), file);
+    }
+    for (const file of ['Untitled-1', '/w/domain.pddl', '/w/package.json', '/w/plan.txt', '/w/p01.plans']) {
+      assert.ok(!sent(file), file);
+    }
+  } finally {
+    process.emitWarning = emitWarning;
+  }
+});

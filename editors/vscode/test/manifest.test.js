@@ -24,38 +24,84 @@ function cmp(a, b) {
   return 0;
 }
 
+const language = (id) => {
+  const found = pkg.contributes.languages.filter((l) => l.id === id);
+  assert.equal(found.length, 1, `exactly one language ${id}`);
+  return found[0];
+};
+const grammarOf = (id) => {
+  const found = pkg.contributes.grammars.filter((g) => g.language === id);
+  assert.equal(found.length, 1, `exactly one grammar for ${id}`);
+  return found[0];
+};
+
+test('two languages: hipop-pddl and hipop-plan', () => {
+  assert.deepEqual(
+    pkg.contributes.languages.map((l) => l.id),
+    ['hipop-pddl', 'hipop-plan'],
+  );
+  assert.deepEqual(pkg.activationEvents, [
+    'onLanguage:hipop-pddl',
+    'onLanguage:hipop-plan',
+    'workspaceContains:**/*.plan.json',
+  ]);
+});
+
 test('one language id covers .pddl and .hddl', () => {
-  assert.equal(pkg.contributes.languages.length, 1);
-  const lang = pkg.contributes.languages[0];
-  assert.equal(lang.id, 'hipop-pddl');
+  const lang = language('hipop-pddl');
   assert.deepEqual(lang.extensions, ['.pddl', '.hddl']);
   assert.equal(lang.aliases[0], 'HTN-PDDL (hipop)');
+  assert.equal(lang.configuration, './language-configuration.json');
   assert.ok(fs.existsSync(path.join(ROOT, lang.configuration)));
-  assert.deepEqual(pkg.activationEvents, ['onLanguage:hipop-pddl']);
 });
 
-test('the grammar contribution points at a grammar with the same scopeName', () => {
-  const [g] = pkg.contributes.grammars;
-  assert.equal(g.language, 'hipop-pddl');
-  assert.equal(g.scopeName, 'source.hipop-pddl');
-  const grammar = readJson(g.path);
-  assert.equal(grammar.scopeName, g.scopeName);
+test('hipop-plan covers .plan, .soln and .sol with its own configuration', () => {
+  const lang = language('hipop-plan');
+  assert.deepEqual(lang.extensions, ['.plan', '.soln', '.sol']);
+  assert.equal(lang.aliases[0], 'Plan (hipop)');
+  assert.equal(lang.configuration, './language-configuration-plan.json');
+  assert.ok(fs.existsSync(path.join(ROOT, lang.configuration)));
 });
 
-test('every #include in the grammar names an existing repository rule', () => {
-  const grammar = readJson(pkg.contributes.grammars[0].path);
-  const missing = [];
-  const walk = (node) => {
-    if (Array.isArray(node)) return node.forEach(walk);
-    if (node && typeof node === 'object') {
-      if (typeof node.include === 'string' && node.include.startsWith('#')) {
-        if (!(node.include.slice(1) in grammar.repository)) missing.push(node.include);
-      }
-      Object.values(node).forEach(walk);
+test('no language claims .plan.json files: they stay JSON', () => {
+  for (const lang of pkg.contributes.languages) {
+    for (const ext of lang.extensions ?? []) {
+      assert.ok(!ext.endsWith('.json'), `${lang.id} claims ${ext}`);
     }
-  };
-  walk(grammar);
-  assert.deepEqual(missing, []);
+    assert.equal(lang.filenamePatterns, undefined, `${lang.id} has filenamePatterns`);
+    assert.equal(lang.filenames, undefined, `${lang.id} has filenames`);
+  }
+});
+
+test('each language has a grammar whose file has the same scopeName', () => {
+  assert.equal(pkg.contributes.grammars.length, 2);
+  for (const [id, scope] of [
+    ['hipop-pddl', 'source.hipop-pddl'],
+    ['hipop-plan', 'source.hipop-plan'],
+  ]) {
+    const g = grammarOf(id);
+    assert.equal(g.scopeName, scope);
+    const grammar = readJson(g.path);
+    assert.equal(grammar.scopeName, g.scopeName);
+  }
+});
+
+test('every #include in the grammars names an existing repository rule', () => {
+  for (const g of pkg.contributes.grammars) {
+    const grammar = readJson(g.path);
+    const missing = [];
+    const walk = (node) => {
+      if (Array.isArray(node)) return node.forEach(walk);
+      if (node && typeof node === 'object') {
+        if (typeof node.include === 'string' && node.include.startsWith('#')) {
+          if (!(node.include.slice(1) in grammar.repository)) missing.push(node.include);
+        }
+        Object.values(node).forEach(walk);
+      }
+    };
+    walk(grammar);
+    assert.deepEqual(missing, [], g.path);
+  }
 });
 
 test('language-configuration: ; comments, () brackets, PDDL word pattern', () => {
@@ -68,6 +114,22 @@ test('language-configuration: ; comments, () brackets, PDDL word pattern', () =>
   assert.deepEqual(words('(at ?robot-1 loc_2)'), ['at', '?robot-1', 'loc_2']);
   assert.deepEqual(words('(:durative-action move'), [':durative-action', 'move']);
   assert.deepEqual(words('(= ?duration 10.5)'), ['?duration', '10.5']);
+});
+
+test('plan language-configuration: ; comments, () and [] brackets, plan word pattern', () => {
+  const conf = readJson('language-configuration-plan.json');
+  assert.equal(conf.comments.lineComment, ';');
+  assert.deepEqual(conf.brackets, [['(', ')'], ['[', ']']]);
+  for (const [open, close] of conf.brackets) {
+    assert.ok(conf.autoClosingPairs.some((p) => p.open === open && p.close === close), open);
+  }
+  const word = new RegExp(conf.wordPattern, 'g');
+  const words = (s) => s.match(word);
+  assert.deepEqual(words('0.000: (move rover-1 base_2 ridge) [30.980]'), [
+    '0.000', 'move', 'rover-1', 'base_2', 'ridge', '30.980',
+  ]);
+  assert.deepEqual(words('3 inspect r1 -> inspect-direct 0 1'), ['3', 'inspect', 'r1', 'inspect-direct', '0', '1']);
+  assert.deepEqual(words(';@ 0 1e-3 [.5]'), ['0', '1e-3', '.5']);
 });
 
 test('settings and the restart command are contributed', () => {

@@ -1,6 +1,7 @@
 'use strict';
 // Small helper shared by the grammar tests: loads the extension's TextMate
-// grammar with vscode-textmate + the oniguruma WASM from node_modules.
+// grammars (HTN-PDDL and plans) with vscode-textmate + the oniguruma WASM
+// from node_modules.
 
 const fs = require('node:fs');
 const path = require('node:path');
@@ -10,11 +11,15 @@ const oniguruma = require('vscode-oniguruma');
 const ROOT = path.join(__dirname, '..');
 const GRAMMAR_PATH = path.join(ROOT, 'syntaxes', 'hipop-pddl.tmLanguage.json');
 const SCOPE_NAME = 'source.hipop-pddl';
+const PLAN_GRAMMAR_PATH = path.join(ROOT, 'syntaxes', 'hipop-plan.tmLanguage.json');
+const PLAN_SCOPE_NAME = 'source.hipop-plan';
+const GRAMMARS = { [SCOPE_NAME]: GRAMMAR_PATH, [PLAN_SCOPE_NAME]: PLAN_GRAMMAR_PATH };
 
-let grammarPromise;
+let registry;
+const grammarPromises = new Map();
 
-function loadGrammar() {
-  if (!grammarPromise) {
+function getRegistry() {
+  if (!registry) {
     const wasmPath = require.resolve('vscode-oniguruma/release/onig.wasm');
     const wasm = fs.readFileSync(wasmPath);
     const onigLib = oniguruma
@@ -23,32 +28,45 @@ function loadGrammar() {
         createOnigScanner: (sources) => new oniguruma.OnigScanner(sources),
         createOnigString: (s) => new oniguruma.OnigString(s),
       }));
-    const registry = new vsctm.Registry({
+    registry = new vsctm.Registry({
       onigLib,
       loadGrammar: async (scopeName) => {
-        if (scopeName !== SCOPE_NAME) {
+        const file = GRAMMARS[scopeName];
+        if (!file) {
           return null;
         }
-        const text = fs.readFileSync(GRAMMAR_PATH, 'utf8');
-        return vsctm.parseRawGrammar(text, GRAMMAR_PATH);
+        return vsctm.parseRawGrammar(fs.readFileSync(file, 'utf8'), file);
       },
     });
-    grammarPromise = registry.loadGrammar(SCOPE_NAME).then((g) => {
-      if (!g) {
-        throw new Error(`grammar ${SCOPE_NAME} could not be loaded`);
-      }
-      return g;
-    });
   }
-  return grammarPromise;
+  return registry;
+}
+
+/** Loads the grammar `scopeName` (default: the HTN-PDDL grammar). */
+function loadGrammar(scopeName = SCOPE_NAME) {
+  if (!grammarPromises.has(scopeName)) {
+    grammarPromises.set(
+      scopeName,
+      getRegistry()
+        .loadGrammar(scopeName)
+        .then((g) => {
+          if (!g) {
+            throw new Error(`grammar ${scopeName} could not be loaded`);
+          }
+          return g;
+        }),
+    );
+  }
+  return grammarPromises.get(scopeName);
 }
 
 /**
- * Tokenizes `source` (several lines) and returns one array per line of
- * `{ text, scopes }` tokens. Rule state is carried across lines.
+ * Tokenizes `source` (several lines) with the grammar `scopeName` and returns
+ * one array per line of `{ text, scopes }` tokens. Rule state is carried
+ * across lines.
  */
-async function tokenize(source) {
-  const grammar = await loadGrammar();
+async function tokenize(source, scopeName = SCOPE_NAME) {
+  const grammar = await loadGrammar(scopeName);
   let ruleStack = vsctm.INITIAL;
   return source.split('\n').map((line) => {
     const result = grammar.tokenizeLine(line, ruleStack);
@@ -60,12 +78,26 @@ async function tokenize(source) {
   });
 }
 
-module.exports = { loadGrammar, tokenize, SCOPE_NAME, GRAMMAR_PATH, ROOT };
+module.exports = {
+  loadGrammar,
+  tokenize,
+  SCOPE_NAME,
+  GRAMMAR_PATH,
+  PLAN_SCOPE_NAME,
+  PLAN_GRAMMAR_PATH,
+  ROOT,
+};
+
+/** The grammar VS Code would pick for `file`, by its name (package.json). */
+function scopeForFile(file) {
+  return /\.(plan|soln|sol)$/i.test(file) ? PLAN_SCOPE_NAME : SCOPE_NAME;
+}
 
 if (require.main === module) {
-  // Debug aid: `node test/tokenize.js FILE` prints every token and its scopes.
+  // Debug aid: `node test/tokenize.js FILE` prints every token and its scopes
+  // (the plan grammar for .plan, .soln and .sol files).
   const file = process.argv[2];
-  tokenize(fs.readFileSync(file, 'utf8')).then((lines) => {
+  tokenize(fs.readFileSync(file, 'utf8'), scopeForFile(file)).then((lines) => {
     lines.forEach((tokens, i) => {
       for (const t of tokens) {
         if (t.text.trim().length > 0) {
