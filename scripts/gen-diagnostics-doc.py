@@ -1,17 +1,25 @@
 #!/usr/bin/env python3
-"""Regenerates docs/diagnostics.md, docs/lints.md and docs/validation.md from
-their templates in docs/src/, the registry in analyzer/src/diagnostic.rs and
-the real output of hipop on each fixture (samples/broken, tests/plans), so the
+"""Regenerates docs/diagnostics.md, docs/lints.md, docs/validation.md and
+docs/validation-temporal.md from their templates in docs/src/, the registry in
+analyzer/src/diagnostic.rs and the real output of hipop on each fixture
+(samples/broken, tests/plans, tests/validate, tests/validate-htn), so the
 examples never drift from the code. Codes E03xx/W03xx/I03xx (model
-verification) are documented in lints.md, codes E04xx/W04xx (plans: their
-syntax, and their validation) in validation.md, the others in diagnostics.md;
-every code has a section in one.
+verification) are documented in lints.md, codes E0410-E0429/W0410-W0429
+(temporal plan validation) in validation-temporal.md, the other codes
+E04xx/W04xx (reading plans, validating hierarchical plans) in validation.md,
+the others in diagnostics.md; every code has a section in one. The examples
+of validation-temporal.md are the plans of tests/validate and their snapshots
+(analyzer/tests/validate.rs), those of the hierarchical validation in
+validation.md the plans of tests/validate-htn and theirs
+(analyzer/tests/validate_htn.rs), so they never drift either.
 
 Directives in the templates:
     @@TABLE@@               the table of the codes of the page
     @@FIXTURE path@@        a model fixture and what `hipop check` prints on it
     @@FILE path@@           a file, shown as text (a plan, say)
     @@RUN args…@@           what `hipop args… --color never` prints, and its exit status
+    @@PLAN name@@           a plan of tests/validate and its snapshot
+    @@HTN name@@            a plan of tests/validate-htn and its snapshot
 
     python3 scripts/gen-diagnostics-doc.py          # rewrite the document
     python3 scripts/gen-diagnostics-doc.py --check  # fail if it is out of date
@@ -23,15 +31,22 @@ os.chdir(root)
 tpl = open('docs/src/diagnostics.template.md').read()
 lints_tpl = open('docs/src/lints.template.md').read()
 plans_tpl = open('docs/src/validation.template.md').read()
+validation_tpl = open('docs/src/validation-temporal.template.md').read()
 reg = open('analyzer/src/diagnostic.rs').read()
 rows = []
 codes = []
 def is_lint(cid):
     return cid[1:3] == '03'
+def is_validation(cid):
+    return 410 <= int(cid[1:]) < 430
 def is_plan(cid):
-    return cid[1:3] == '04'
+    return cid[1:3] == '04' and not is_validation(cid)
 def page_of(cid):
-    return 'lints.md' if is_lint(cid) else 'validation.md' if is_plan(cid) else ''
+    if is_lint(cid):
+        return 'lints.md'
+    if is_validation(cid):
+        return 'validation-temporal.md'
+    return 'validation.md' if is_plan(cid) else ''
 for m in re.finditer(r'^\s*([A-Z_]+) = "(\w+)" "([\w-]+)" (\w+) "(.*)";\s*$', reg, re.M):
     _, cid, name, sev, summary = m.groups()
     codes.append((cid, name))
@@ -41,8 +56,10 @@ assert rows, 'no code found in the registry'
 tpl = tpl.replace('@@TABLE@@', '\n'.join(rows))
 lints_tpl = lints_tpl.replace('@@TABLE@@', '\n'.join(r.replace('](lints.md#', '](#') for r in rows if is_lint(r[3:8])))
 plans_tpl = plans_tpl.replace('@@TABLE@@', '\n'.join(r.replace('](validation.md#', '](#') for r in rows if is_plan(r[3:8])))
+validation_tpl = validation_tpl.replace('@@TABLE@@', '\n'.join(
+    r.replace('](validation-temporal.md#', '](#') for r in rows if is_validation(r[3:8])))
 for cid, name in codes:
-    doc = lints_tpl if is_lint(cid) else plans_tpl if is_plan(cid) else tpl
+    doc = lints_tpl if is_lint(cid) else validation_tpl if is_validation(cid) else plans_tpl if is_plan(cid) else tpl
     assert f'### {cid} {name}' in doc, f'code {cid} {name} has no `### {cid} {name}` section in its template'
 
 features = [
@@ -97,9 +114,48 @@ def run(args):
     assert r.returncode in (0, 1, 2) and 'panicked' not in r.stderr, (args, r.returncode, r.stderr)
     shown = '\n'.join(x for x in (r.stderr.rstrip(), r.stdout.rstrip()) if x)
     return f'`hipop {args}` prints (exit status {r.returncode}):\n\n```text\n{shown}\n```'
+def plan(name):
+    """A plan of tests/validate without its header, and its snapshot."""
+    path = f'tests/validate/{name}.plan'
+    snap = open(f'analyzer/tests/snapshots/validate__check_fixture@{name}.plan.snap').read()
+    # The insta header is between the first two `---` lines.
+    body = snap.split('\n---\n', 1)[1] if snap.startswith('---\n') else snap
+    header = open(path).read().split('\n')
+    models = [l.split(':', 1)[1].strip() for l in header if l.startswith(('; domain:', '; problem:'))]
+    models = [m.replace('corpus:', '../shared/corpora/') if m.startswith('corpus:') else f'tests/validate/{m}' for m in models]
+    tol = next((l.split(':', 1)[1].strip() for l in header if l.startswith('; tolerance:')), '0.01')
+    return '\n'.join([
+        f'[`{name}.plan`](../{path}), for `{models[0]}` and `{models[1]}` at tolerance {tol}:\n',
+        f'```lisp\n{strip_header(open(path).read())}\n```\n',
+        'gives:\n',
+        f'```text\n{body.strip()}\n```',
+    ])
+def htn(name):
+    """A plan of tests/validate-htn without its header, and its snapshot."""
+    path = f'tests/validate-htn/{name}.plan'
+    snap = open(f'analyzer/tests/snapshots/validate_htn__fixture@{name}.plan.snap').read()
+    body = snap.split('\n---\n', 1)[1] if snap.startswith('---\n') else snap
+    header = open(path).read().split('\n')
+    models = [l.split(':', 1)[1].strip() for l in header if l.startswith(('; domain:', '; problem:'))]
+    models = [f'tests/validate-htn/{m}' for m in models]
+    return '\n'.join([
+        f'[`{name}.plan`](../{path}), for [`{os.path.basename(models[0])}`](../{models[0]}) and '
+        f'[`{os.path.basename(models[1])}`](../{models[1]}):\n',
+        f'```text\n{strip_header(open(path).read())}\n```\n',
+        'gives:\n',
+        f'```text\n{body.strip()}\n```',
+    ])
 stale = []
-for out, text in [('docs/diagnostics.md', tpl), ('docs/lints.md', lints_tpl), ('docs/validation.md', plans_tpl)]:
+outputs = [
+    ('docs/diagnostics.md', tpl),
+    ('docs/lints.md', lints_tpl),
+    ('docs/validation.md', plans_tpl),
+    ('docs/validation-temporal.md', validation_tpl),
+]
+for out, text in outputs:
     text = re.sub(r'@@FIXTURE (\S+)@@', lambda m: fixture(m.group(1)), text)
+    text = re.sub(r'@@PLAN (\S+)@@', lambda m: plan(m.group(1)), text)
+    text = re.sub(r'@@HTN (\S+)@@', lambda m: htn(m.group(1)), text)
     text = re.sub(r'@@FILE (\S+)@@', lambda m: show_file(m.group(1)), text)
     text = re.sub(r'@@RUN ([^@]+)@@', lambda m: run(m.group(1).strip()), text)
     assert '@@' not in text, out
@@ -112,4 +168,4 @@ for out, text in [('docs/diagnostics.md', tpl), ('docs/lints.md', lints_tpl), ('
 if stale:
     sys.exit(f'{", ".join(stale)} out of date: run python3 scripts/gen-diagnostics-doc.py')
 if '--check' in sys.argv:
-    print('docs/diagnostics.md, docs/lints.md and docs/validation.md are up to date')
+    print('docs/diagnostics.md, docs/lints.md, docs/validation.md and docs/validation-temporal.md are up to date')

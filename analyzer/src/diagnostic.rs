@@ -99,6 +99,23 @@ pub mod codes {
         IGNORED_LINE = "W0401" "ignored-line" Warning "text in a plan that is neither a step nor a comment, and is ignored";
         UNPORTABLE_PLAN_LINE = "W0402" "unportable-plan-line" Warning "a comment or timing annotation inside `==>` … `<==`, which pandaPIparser rejects";
         MIXED_TIMING = "W0403" "mixed-timing" Warning "some steps of a plan have a start time and others do not";
+
+        UNKNOWN_ACTION_IN_PLAN = "E0410" "unknown-action-in-plan" Error "a plan step names no action of the domain";
+        STEP_ARITY = "E0411" "step-arity" Error "a plan step gives its action the wrong number of arguments";
+        UNKNOWN_OBJECT_IN_PLAN = "E0412" "unknown-object-in-plan" Error "an argument of a plan step is not an object of the problem or a constant of the domain";
+        STEP_TYPE_MISMATCH = "E0413" "step-type-mismatch" Error "an argument of a plan step is not of its parameter's type";
+        INVALID_STEP_TIMING = "E0414" "invalid-step-timing" Error "a durative action without a duration, or a negative or non-finite time or duration";
+        PRECONDITION_FALSE = "E0415" "precondition-false" Error "a condition of a step (`at start`, `at end`, a precondition) is false when the step happens";
+        INVARIANT_VIOLATED = "E0416" "invariant-violated" Error "an `over all` condition is false while its step runs";
+        DURATION_VIOLATED = "E0417" "duration-violated" Error "a step's duration does not satisfy its action's duration constraint";
+        MUTEX_HAPPENINGS = "E0418" "mutex-happenings" Error "interfering steps happen at the same time (one happening for VAL)";
+        GOAL_NOT_REACHED = "E0419" "goal-not-reached" Error "the goal is false after the last step";
+        NUMERIC_ERROR = "E0420" "numeric-error" Error "a numeric value cannot be computed while executing the plan (a fluent without value, a division by zero)";
+        UNSUPPORTED_IN_PLAN = "E0421" "unsupported-in-plan" Error "the plan needs a feature the validator cannot check (PDDL+, derived predicates, PDDL 3)";
+        MODEL_NOT_VALIDATABLE = "E0422" "model-not-validatable" Error "the plan is not validated: the problem has no domain, or the domain or the problem has errors";
+        DURATION_IGNORED = "W0410" "duration-ignored" Warning "an instantaneous action is given a duration, which is ignored";
+        CLOSE_HAPPENINGS = "W0411" "close-happenings" Warning "interfering steps closer than the tolerance, which VAL accepts as separate happenings";
+        VALUE_NOT_EVALUABLE = "W0412" "value-not-evaluable" Warning "the problem's metric cannot be evaluated on the plan";
     }
 }
 

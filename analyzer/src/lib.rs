@@ -13,6 +13,7 @@ pub mod model;
 pub mod plan;
 pub mod semantics;
 pub mod syntax;
+pub mod validate;
 pub mod verify;
 
 pub use db::SourceFile;

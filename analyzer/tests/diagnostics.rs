@@ -319,8 +319,11 @@ fn recovery_fixtures() {
     });
 }
 
-/// Every code of the registry has a fixture named after it (the plan codes,
-/// E04xx and W04xx, have theirs in `tests/plans/`: see `tests/plans.rs`).
+/// Every code of the registry has a fixture named after it. The plan codes
+/// (E04xx and W04xx) are about plans, which `hipop check` does not read:
+/// the fixtures of reading plans are in `tests/plans/` (`tests/plans.rs`),
+/// those of temporal plan validation (E0410–E0429, W0410–W0429) in
+/// `tests/validate/` (`analyzer/tests/validate.rs`).
 #[test]
 fn every_code_has_a_fixture() {
     let names: Vec<String> = std::fs::read_dir(broken_dir())
