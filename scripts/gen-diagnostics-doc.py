@@ -133,7 +133,7 @@ def plan(name):
 def htn(name):
     """A plan of tests/validate-htn without its header, and its snapshot."""
     path = f'tests/validate-htn/{name}.plan'
-    snap = open(f'analyzer/tests/snapshots/validate_htn__fixture@{name}.plan.snap').read()
+    snap = open(f'analyzer/tests/snapshots/validate_htn__check_fixture@{name}.plan.snap').read()
     body = snap.split('\n---\n', 1)[1] if snap.startswith('---\n') else snap
     header = open(path).read().split('\n')
     models = [l.split(':', 1)[1].strip() for l in header if l.startswith(('; domain:', '; problem:'))]

@@ -42,6 +42,7 @@
 //! tolerance are accepted, as VAL accepts them, with the warning W0411.
 
 mod eval;
+pub mod hierarchy;
 mod temporal;
 
 use rowan::TextRange;
