@@ -605,3 +605,66 @@ fn json_plans_are_validated_too() {
     assert_eq!(o.report.methods[0].method, "survey-there-and-back");
     assert_eq!(o.report.methods[0].subtasks, [0, 1, 2]);
 }
+
+/// A variable that only a method's precondition mentions may take any value
+/// that makes the precondition true (pandaPIparser's semantics).
+#[test]
+fn precondition_variables_without_value_are_existential() {
+    let (d, p) = (model("transport.hddl"), model("transport-1.hddl"));
+    let plan = read(&fixtures_dir().join("valid-transport.plan"));
+    let with = |pre: &str| {
+        d.1.replace(
+            ":parameters (?v - vehicle ?from ?to - location)\n    :task (get-to ?v ?to)\n    :precondition (and (at ?v ?from) (not (= ?from ?to)))",
+            &format!(":parameters (?v - vehicle ?from ?to ?x - location)\n    :task (get-to ?v ?to)\n    :precondition {pre}"),
+        )
+    };
+    // Some place has a road to where the truck is.
+    let some = with("(and (at ?v ?from) (road ?x ?from))");
+    assert_ne!(some, d.1, "the test edits `m-drive`");
+    let o = validate((&d.0, &some), (&p.0, &p.1), ("p.plan", &plan), &HierarchyOptions::default());
+    assert!(o.valid() && o.all().next().is_none(), "{}", render(&o));
+    // No place has a road to itself: false whatever `?x` is.
+    let none = with("(and (at ?v ?from) (road ?x ?x))");
+    let o = validate((&d.0, &none), (&p.0, &p.1), ("p.plan", &plan), &HierarchyOptions::default());
+    let ids: Vec<&str> = o.all().map(|d| d.code.id).collect();
+    assert!(!o.valid() && ids.iter().all(|c| *c == "E0444") && ids.len() == 4, "{}", render(&o));
+    assert!(o.report.diagnostics[0].message.contains("no value of ?x makes it true"), "{}", render(&o));
+}
+
+/// The plans of the IPC 2020 feature tests (empty methods, a primitive root,
+/// `forall`, `sortof`) are valid.
+#[test]
+fn ipc2020_feature_test_plans() {
+    let Some(dir) = corpora() else {
+        eprintln!("SKIP the IPC 2020 feature tests: ../shared/corpora is absent");
+        return;
+    };
+    let tests = dir.join("ipc2020-hddl/tests/ipc2020-feature-tests");
+    let Ok(entries) = std::fs::read_dir(tests.join("plans")) else {
+        eprintln!("SKIP the IPC 2020 feature tests: no plans folder");
+        return;
+    };
+    let mut plans: Vec<PathBuf> = entries.map(|e| e.unwrap().path()).collect();
+    plans.sort();
+    let mut checked = 0;
+    for plan in plans {
+        // `plans/sortof.hddl` is a plan too.
+        let name = plan.file_stem().unwrap().to_string_lossy().into_owned();
+        let (domain, problem) =
+            (tests.join(format!("{name}-domain.hddl")), tests.join(format!("{name}.hddl")));
+        if !(domain.is_file() && problem.is_file()) {
+            eprintln!("SKIP feature test {name}: no model");
+            continue;
+        }
+        let o = validate(
+            ("domain.hddl", &read(&domain)),
+            ("problem.hddl", &read(&problem)),
+            ("plan.plan", &read(&plan)),
+            &HierarchyOptions::default(),
+        );
+        assert!(o.valid() && o.all().next().is_none(), "{name}:\n{}", render(&o));
+        checked += 1;
+    }
+    eprintln!("IPC 2020 feature test plans: {checked} valid");
+    assert!(checked >= 3, "expected the feature tests' plans, checked {checked}");
+}
