@@ -1922,6 +1922,44 @@ mod tests {
         assert!(valid, "{failures:?}");
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig { cases: 200, ..Default::default() })]
+        /// Any steps, however wrong (unknown names, wrong arities, times and
+        /// durations that are negative, zero or not numbers, events at the
+        /// same time), give a verdict without panicking, and the verdict is
+        /// "valid" exactly when no failure is an error.
+        #[test]
+        fn any_steps_get_a_consistent_verdict(
+            raw in proptest::collection::vec(
+                (0..8usize, proptest::collection::vec(0..4usize, 0..3), 0..9usize, 0..9usize),
+                0..12,
+            ),
+            keep_going in proptest::bool::ANY,
+        ) {
+            const NAMES: [&str; 8] = ["light", "work", "close", "all-off", "reset", "LIGHT", "nope", "all_off"];
+            const ARGS: [&str; 4] = ["r1", "r2", "x", "R1"];
+            const NUMBERS: [f64; 9] = [0.0, 0.0005, 0.005, 1.0, 2.0, 10.0, -1.0, f64::NAN, f64::INFINITY];
+            let plan: Vec<TimedStep> = raw
+                .iter()
+                .map(|(n, args, t, d)| {
+                    let args: Vec<&str> = args.iter().map(|&a| ARGS[a]).collect();
+                    let time = (*t != 0).then(|| NUMBERS[*t - 1]);
+                    let duration = (*d != 0).then(|| NUMBERS[*d - 1]);
+                    TimedStep::new(NAMES[*n], &args, time, duration, Default::default())
+                })
+                .collect();
+            let mut host = AnalysisHost::new();
+            host.set_file_text("m/domain.pddl", DOMAIN);
+            let p = host.set_file_text("m/problem.pddl", PROBLEM);
+            let db = host.db();
+            let options = Options { keep_going, ..Options::default() };
+            let report = validate_temporal(db, file_units(db, p)[0], &plan, &options);
+            let errors = report.failures.iter().filter(|f| f.code.severity == crate::Severity::Error).count();
+            proptest::prop_assert_eq!(report.valid, errors == 0);
+            proptest::prop_assert!(report.valid || report.value.is_none());
+        }
+    }
+
     #[test]
     fn keep_going_reports_later_failures() {
         let plan = "(close r2)\n(close r2)\n(close r2)\n0: (light r1) [2]";
