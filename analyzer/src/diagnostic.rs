@@ -134,6 +134,7 @@ pub mod codes {
         METHOD_PRECONDITION_FALSE = "E0444" "method-precondition-false" Error "a method's precondition or constraint is false where the method is applied";
         ABSTRACT_STEP_TIMING = "E0445" "abstract-step-timing" Error "a timed abstract step does not contain the times of its subtasks";
         ABSTRACT_ACTION_VIOLATED = "E0446" "abstract-action-violated" Error "a HiPOP abstract action's precondition is false where its step starts, or its effect where it ends";
+        METHOD_DURATION_VIOLATED = "E0447" "method-duration-violated" Error "a timed abstract step's duration does not satisfy the duration constraint of its durative method or HiPOP abstract action";
         HIERARCHY_NOT_CHECKED = "W0430" "hierarchy-not-checked" Warning "a part of a plan's hierarchy the validator cannot check (method effects and durations, HDDL 2.1 constraints, too many matchings)";
     }
 }

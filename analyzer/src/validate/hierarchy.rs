@@ -20,7 +20,8 @@
 //!   timed abstract step contains its subtasks (HiPOP);
 //! - method preconditions hold (`conditions.rs`), and HiPOP abstract
 //!   actions' preconditions and effects, in the states the primitive steps
-//!   lead to.
+//!   lead to; on a timed plan, the duration constraints of durative methods
+//!   (HDDL 2.1) and of abstract actions hold on the steps' times.
 //!
 //! Unknown step ids, duplicate ids and unreadable lines are the reader's
 //! (E0401–E0406): a step involved in one is not checked again. Executing the

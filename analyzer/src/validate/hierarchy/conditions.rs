@@ -23,10 +23,11 @@ use super::Cx;
 use super::decompose::precedences;
 use super::timeline::{EventKind, Timeline};
 use crate::diagnostic::codes;
-use crate::model::{ActionKind, Effect, Gd, Method, NumExpr, Str, Term, TimeSpec, Typed};
+use crate::model::{ActionKind, CmpOp, Effect, Gd, Method, NumExpr, Str, Term, TimeSpec, Typed};
 use crate::semantics::symbols::{Loc, domain_symbols};
 use crate::validate::eval::{
-    Binding, Changes, Eval, EvalError, Phase, Res, State, World, for_each_binding, has_timed, split_timed,
+    Binding, Changes, Eval, EvalError, Phase, Res, State, World, fmt_num, for_each_binding, has_timed,
+    op_text, split_timed,
 };
 use crate::verify::state::{Atoms, Interner, ObjId, initial_state};
 
@@ -47,9 +48,23 @@ struct Condition<'db> {
 }
 
 /// An abstract step, with what must hold where it starts and ends.
+/// A duration constraint of a durative method or of a HiPOP abstract action,
+/// checked on its step's times where the step starts.
+struct DurationCheck<'db> {
+    gd: &'db Gd,
+    binding: Values,
+    /// The step's duration, and the durations of the method's subtasks by id.
+    duration: f64,
+    subtasks: Vec<(Str, f64)>,
+    /// A method's (`false`: an abstract action's).
+    method: bool,
+    loc: Loc<'db>,
+}
+
 struct Node<'db> {
     step: usize,
     conditions: Vec<Condition<'db>>,
+    durations: Vec<DurationCheck<'db>>,
     effect: Option<(&'db Effect, Values, Loc<'db>)>,
     children: Vec<usize>,
     /// The first state its start may be in, from its siblings ordered before it.
@@ -64,7 +79,7 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
         return;
     }
     let db = cx.db;
-    warn_unchecked(cx);
+    warn_unchecked(cx, tl.timed);
     let mut nodes: Vec<Node<'_>> = Vec::new();
     let mut node_of: Vec<Option<usize>> = vec![None; cx.plan.steps.len()];
     for &i in &cx.order {
@@ -75,6 +90,7 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
         nodes.push(Node {
             step: i,
             conditions: Vec::new(),
+            durations: Vec::new(),
             effect: None,
             children: Vec::new(),
             lo: 0,
@@ -105,6 +121,38 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
                 node.conditions.push(Condition { gd: g, binding: binding.clone(), free, method: true, loc });
             }
         }
+        // The step's duration, and those of the listed subtasks, on a timed plan.
+        let step_duration = |j: usize| -> Option<f64> {
+            let s = &cx.plan.steps[j];
+            match (&s.start, &s.duration) {
+                (Some(_), Some(d)) if s.is_abstract() => Some(d.value),
+                _ => tl.span[j].map(|sp| sp.end - sp.start),
+            }
+        };
+        if tl.timed
+            && let Some(applied) = &cx.applied[i]
+            && let Some(g) = &applied.method.duration
+            && let Some(d) = step_duration(i)
+        {
+            let ids =
+                cx.plan.steps[i].decomposition.as_ref().map(|dec| dec.subtasks.clone()).unwrap_or_default();
+            let subtasks: Vec<(Str, f64)> = applied
+                .assign
+                .iter()
+                .zip(&ids)
+                .filter_map(|(&j, id)| {
+                    let sub = applied.method.network.subtasks.get(j)?.id.as_ref()?.key.clone();
+                    Some((sub, step_duration(cx.plan.index_of(id.value)?)?))
+                })
+                .collect();
+            let binding: Values = applied
+                .binding
+                .iter()
+                .filter_map(|b| Some((b.var.clone(), cx.objects.id(&b.value)?)))
+                .collect();
+            let loc = Loc { item: applied.method_loc.item, span: crate::semantics::check::gd_span(g) };
+            node.durations.push(DurationCheck { gd: g, binding, duration: d, subtasks, method: true, loc });
+        }
         if let Some((tloc, task)) = cx.task_model(&res.key) {
             let binding: Vec<(Str, ObjId)> = task
                 .params
@@ -123,6 +171,20 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
                         loc,
                     });
                 }
+            }
+            if tl.timed
+                && let Some(g) = &task.duration
+                && let Some(d) = step_duration(i)
+            {
+                let loc = Loc { item: tloc.item, span: crate::semantics::check::gd_span(g) };
+                node.durations.push(DurationCheck {
+                    gd: g,
+                    binding: binding.clone(),
+                    duration: d,
+                    subtasks: Vec::new(),
+                    method: false,
+                    loc,
+                });
             }
             if let Some(e) = &task.effect {
                 node.effect = Some((e, binding, Loc { item: tloc.item, span: effect_span(e) }));
@@ -253,6 +315,13 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
                     }
                 }
                 if failed.is_empty() || k >= nodes[n].hi {
+                    for (c, check) in nodes[n].durations.iter().enumerate() {
+                        match duration_holds(&ev, check, cx.opts.tolerance) {
+                            Ok(None) => {}
+                            Ok(Some(why)) => failures.push(Failure::Duration { node: n, check: c, why }),
+                            Err(e) => unevaluable.push((n, e)),
+                        }
+                    }
                     if !failed.is_empty() {
                         let whys = failed.iter().map(|&c| (c, why(&ev, &nodes[n].conditions[c]))).collect();
                         failures.push(Failure::Condition { node: n, state: k, whys, lo: from[n] });
@@ -345,6 +414,8 @@ enum Failure {
     /// Conditions of a node false in every state from `lo` to `state`:
     /// which, and why (in the last state).
     Condition { node: usize, state: usize, whys: Vec<(usize, String)>, lo: usize },
+    /// A duration constraint that the step's times do not satisfy, and why.
+    Duration { node: usize, check: usize, why: String },
     /// Effects of an abstract action that do not hold after its last action
     /// (the event before `state`): the atoms, and whether they should be true.
     Effect { node: usize, state: usize, unmet: Vec<(String, bool)> },
@@ -410,6 +481,38 @@ fn report(cx: &mut Cx<'_, '_>, tl: &Timeline, nodes: &[Node<'_>], f: Failure) {
                 cx.hint(&mut d, hint, Vec::new());
                 cx.push(d);
             }
+        }
+        Failure::Duration { node, check, why } => {
+            let n = &nodes[node];
+            let step = n.step;
+            let c = &n.durations[check];
+            let (whose, at) = if c.method {
+                let key = cx.applied[step].as_ref().map_or(String::new(), |a| a.method_key.to_string());
+                let at = cx.plan.steps[step]
+                    .decomposition
+                    .as_ref()
+                    .map_or(cx.plan.steps[step].range, |d| d.method.range);
+                (format!("method `{key}`"), at)
+            } else {
+                let key = cx.resolved[step].as_ref().map_or(String::new(), |r| r.key.to_string());
+                (format!("the abstract action `{key}`"), cx.plan.steps[step].name.range)
+            };
+            let mut d = cx.diag(
+                codes::METHOD_DURATION_VIOLATED,
+                at,
+                format!(
+                    "{} lasts {}, which the duration constraint of {whose} rejects: {why}",
+                    cx.step_text(step),
+                    fmt_num(c.duration)
+                ),
+            );
+            cx.related_loc(&mut d, c.loc, "the duration constraint");
+            cx.hint(
+                &mut d,
+                "a step lasts from its first subtask's start to its last subtask's end: retime its actions so that the constraint holds, or use another method",
+                Vec::new(),
+            );
+            cx.push(d);
         }
         Failure::Effect { node, state, unmet } => {
             let step = nodes[node].step;
@@ -497,6 +600,87 @@ fn holds<'m>(ev: &Eval<'_, '_, '_>, c: &'m Condition<'_>) -> Res<bool> {
     match error {
         Some(e) if !found => Err(e),
         _ => Ok(found),
+    }
+}
+
+/// Whether a duration constraint holds on a step's times: `None` when it
+/// does, or why not. Comparisons accept the tolerance as VAL does for
+/// durative actions: `=` within it, `<=` and `>=` up to it, `<` and `>` none.
+fn duration_holds(ev: &Eval<'_, '_, '_>, c: &DurationCheck<'_>, tol: f64) -> Res<Option<String>> {
+    let mut b: Binding<'_> = Binding::default();
+    for (var, obj) in &c.binding {
+        b.push(var.as_str(), *obj);
+    }
+    let mut parts: Vec<&Gd> = Vec::new();
+    flatten_and(c.gd, &mut parts);
+    for g in parts {
+        let Gd::Compare(op, l, r, _) = g else {
+            let timed =
+                Eval { world: ev.world, state: ev.state, duration: Some(c.duration), total_time: None };
+            if !timed.holds(g, &mut b)? {
+                return Ok(Some(format!("`{}` is false", ev.show_gd(g, &b))));
+            }
+            continue;
+        };
+        let (lv, rv) = (duration_num(ev, l, &b, c)?, duration_num(ev, r, &b, c)?);
+        let ok = match op {
+            CmpOp::Gt => lv > rv,
+            CmpOp::Lt => lv < rv,
+            CmpOp::Ge => rv - lv <= tol,
+            CmpOp::Le => lv - rv <= tol,
+            CmpOp::Eq => (lv - rv).abs() < tol,
+        };
+        if !ok {
+            return Ok(Some(format!(
+                "`{}` is false ({} {} {} fails)",
+                ev.show_gd(g, &b),
+                fmt_num(lv),
+                op_text(*op),
+                fmt_num(rv)
+            )));
+        }
+    }
+    Ok(None)
+}
+
+fn flatten_and<'g>(g: &'g Gd, out: &mut Vec<&'g Gd>) {
+    match g {
+        Gd::And(xs, _) => xs.iter().for_each(|x| flatten_and(x, out)),
+        other => out.push(other),
+    }
+}
+
+/// A numeric expression of a duration constraint: `?duration` is the step's
+/// duration, `(duration t1)` that of the subtask `t1`.
+fn duration_num<'m>(
+    ev: &Eval<'_, '_, '_>,
+    e: &'m NumExpr,
+    b: &Binding<'m>,
+    c: &DurationCheck<'_>,
+) -> Res<f64> {
+    match e {
+        NumExpr::Duration(_) => Ok(c.duration),
+        NumExpr::TaskDuration(id, span) => {
+            c.subtasks.iter().find(|(k, _)| *k == id.key).map(|(_, d)| *d).ok_or_else(|| EvalError {
+                kind: crate::validate::eval::ErrorKind::Unresolved,
+                message: format!("`{}` is not a subtask with times", id.text),
+                span: *span,
+                fluent: None,
+            })
+        }
+        NumExpr::Op(op, args, _) => {
+            let vals = args.iter().map(|a| duration_num(ev, a, b, c)).collect::<Res<Vec<f64>>>()?;
+            let Some((first, rest)) = vals.split_first() else { return ev.num(e, b) };
+            Ok(match (&**op, rest) {
+                ("-", []) => -first,
+                ("+", _) => rest.iter().fold(*first, |a, x| a + x),
+                ("-", _) => rest.iter().fold(*first, |a, x| a - x),
+                ("*", _) => rest.iter().fold(*first, |a, x| a * x),
+                ("/", _) if !rest.contains(&0.0) => rest.iter().fold(*first, |a, x| a / x),
+                _ => return ev.num(e, b),
+            })
+        }
+        _ => ev.num(e, b),
     }
 }
 
@@ -703,7 +887,7 @@ fn effect_span(e: &Effect) -> TextRange {
 
 /// Warns, once per method, about what is not checked: method effects,
 /// durations of durative methods, HDDL 2.1 modal constraints.
-fn warn_unchecked(cx: &mut Cx<'_, '_>) {
+fn warn_unchecked(cx: &mut Cx<'_, '_>, timed: bool) {
     let mut seen: Vec<Str> = Vec::new();
     for k in 0..cx.order.len() {
         let i = cx.order[k];
@@ -722,9 +906,11 @@ fn warn_unchecked(cx: &mut Cx<'_, '_>) {
                 "the plan is validated without it: pandaPIparser applies method effects where a method starts",
             ));
         }
-        if let Some(d) = &m.duration {
+        if let Some(d) = &m.duration
+            && !timed
+        {
             what.push((
-                "its duration constraint is not checked",
+                "its duration constraint is not checked: the plan has no times",
                 crate::semantics::check::gd_span(d),
                 by_hand,
             ));
