@@ -95,7 +95,8 @@ pub struct AppliedMethod {
 /// The verdict on a plan's hierarchy.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HierarchyReport {
-    /// The plan was read without error and no check failed.
+    /// The plan was read without error and no check of its hierarchy failed
+    /// (executing its primitive steps is the temporal validator's verdict).
     pub valid: bool,
     /// What failed (errors) and what could not be checked (warnings), in
     /// the plan file. The reader's own diagnostics are not repeated.
