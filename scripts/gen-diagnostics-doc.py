@@ -1,20 +1,25 @@
 #!/usr/bin/env python3
-"""Regenerates docs/diagnostics.md, docs/lints.md and docs/validation.md from
-their templates in docs/src/, the registry in analyzer/src/diagnostic.rs and
-the real output of hipop on each fixture (samples/broken, tests/plans), so the
+"""Regenerates docs/diagnostics.md, docs/lints.md, docs/validation.md and
+docs/validation-temporal.md from their templates in docs/src/, the registry in
+analyzer/src/diagnostic.rs and the real output of hipop on each fixture
+(samples/broken, tests/plans, tests/validate, tests/validate-htn), so the
 examples never drift from the code. Codes E03xx/W03xx/I03xx (model
-verification) are documented in lints.md, codes E04xx/W04xx/I04xx (plans)
-in validation.md, except E0410-E0429/W0410-W0429 (temporal plan validation)
-in validation-temporal.md, the others in diagnostics.md; every code has a
-section in one. The examples of validation-temporal.md are the plans of
-tests/validate and their snapshots (analyzer/tests/validate.rs).
+verification) are documented in lints.md, codes E0410-E0429/W0410-W0429
+(temporal plan validation) in validation-temporal.md, the other codes
+E04xx/W04xx (reading plans, validating hierarchical plans) in validation.md,
+the others in diagnostics.md; every code has a section in one. The examples
+of validation-temporal.md are the plans of tests/validate and their snapshots
+(analyzer/tests/validate.rs), those of the hierarchical validation in
+validation.md the plans of tests/validate-htn and theirs
+(analyzer/tests/validate_htn.rs), so they never drift either.
 
 Directives in the templates:
     @@TABLE@@               the table of the codes of the page
     @@FIXTURE path@@        a model fixture and what `hipop check` prints on it
     @@FILE path@@           a file, shown as text (a plan, say)
     @@RUN args…@@           what `hipop args… --color never` prints, and its exit status
-    @@PLAN name@@           a plan of tests/validate and its validation snapshot
+    @@PLAN name@@           a plan of tests/validate and its snapshot
+    @@HTN name@@            a plan of tests/validate-htn and its snapshot
 
     python3 scripts/gen-diagnostics-doc.py          # rewrite the document
     python3 scripts/gen-diagnostics-doc.py --check  # fail if it is out of date
@@ -33,13 +38,15 @@ codes = []
 def is_lint(cid):
     return cid[1:3] == '03'
 def is_validation(cid):
-    return cid[1:3] == '04' and 410 <= int(cid[1:]) < 430
+    return 410 <= int(cid[1:]) < 430
 def is_plan(cid):
     return cid[1:3] == '04' and not is_validation(cid)
 def page_of(cid):
     if is_lint(cid):
         return 'lints.md'
-    return 'validation-temporal.md' if is_validation(cid) else 'validation.md' if is_plan(cid) else ''
+    if is_validation(cid):
+        return 'validation-temporal.md'
+    return 'validation.md' if is_plan(cid) else ''
 for m in re.finditer(r'^\s*([A-Z_]+) = "(\w+)" "([\w-]+)" (\w+) "(.*)";\s*$', reg, re.M):
     _, cid, name, sev, summary = m.groups()
     codes.append((cid, name))
@@ -123,14 +130,34 @@ def plan(name):
         'gives:\n',
         f'```text\n{body.strip()}\n```',
     ])
+def htn(name):
+    """A plan of tests/validate-htn without its header, and its snapshot."""
+    path = f'tests/validate-htn/{name}.plan'
+    snap = open(f'analyzer/tests/snapshots/validate_htn__check_fixture@{name}.plan.snap').read()
+    body = snap.split('\n---\n', 1)[1] if snap.startswith('---\n') else snap
+    header = open(path).read().split('\n')
+    models = [l.split(':', 1)[1].strip() for l in header if l.startswith(('; domain:', '; problem:'))]
+    models = [f'tests/validate-htn/{m}' for m in models]
+    return '\n'.join([
+        f'[`{name}.plan`](../{path}), for [`{os.path.basename(models[0])}`](../{models[0]}) and '
+        f'[`{os.path.basename(models[1])}`](../{models[1]}):\n',
+        f'```text\n{strip_header(open(path).read())}\n```\n',
+        'gives:\n',
+        f'```text\n{body.strip()}\n```',
+    ])
 stale = []
-outputs = [('docs/diagnostics.md', tpl), ('docs/lints.md', lints_tpl), ('docs/validation.md', plans_tpl),
-           ('docs/validation-temporal.md', validation_tpl)]
+outputs = [
+    ('docs/diagnostics.md', tpl),
+    ('docs/lints.md', lints_tpl),
+    ('docs/validation.md', plans_tpl),
+    ('docs/validation-temporal.md', validation_tpl),
+]
 for out, text in outputs:
     text = re.sub(r'@@FIXTURE (\S+)@@', lambda m: fixture(m.group(1)), text)
+    text = re.sub(r'@@PLAN (\S+)@@', lambda m: plan(m.group(1)), text)
+    text = re.sub(r'@@HTN (\S+)@@', lambda m: htn(m.group(1)), text)
     text = re.sub(r'@@FILE (\S+)@@', lambda m: show_file(m.group(1)), text)
     text = re.sub(r'@@RUN ([^@]+)@@', lambda m: run(m.group(1).strip()), text)
-    text = re.sub(r'@@PLAN (\S+)@@', lambda m: plan(m.group(1)), text)
     assert '@@' not in text, out
     if '--check' in sys.argv:
         if not os.path.exists(out) or open(out).read() != text:

@@ -99,6 +99,7 @@ pub mod codes {
         IGNORED_LINE = "W0401" "ignored-line" Warning "text in a plan that is neither a step nor a comment, and is ignored";
         UNPORTABLE_PLAN_LINE = "W0402" "unportable-plan-line" Warning "a comment or timing annotation inside `==>` … `<==`, which pandaPIparser rejects";
         MIXED_TIMING = "W0403" "mixed-timing" Warning "some steps of a plan have a start time and others do not";
+
         UNKNOWN_ACTION_IN_PLAN = "E0410" "unknown-action-in-plan" Error "a plan step names no action of the domain";
         STEP_ARITY = "E0411" "step-arity" Error "a plan step gives its action the wrong number of arguments";
         UNKNOWN_OBJECT_IN_PLAN = "E0412" "unknown-object-in-plan" Error "an argument of a plan step is not an object of the problem or a constant of the domain";
@@ -115,6 +116,26 @@ pub mod codes {
         DURATION_IGNORED = "W0410" "duration-ignored" Warning "an instantaneous action is given a duration, which is ignored";
         CLOSE_HAPPENINGS = "W0411" "close-happenings" Warning "interfering steps closer than the tolerance, which VAL accepts as separate happenings";
         VALUE_NOT_EVALUABLE = "W0412" "value-not-evaluable" Warning "the problem's metric cannot be evaluated on the plan";
+
+        UNKNOWN_TASK_IN_PLAN = "E0430" "unknown-task-in-plan" Error "an abstract step (a decomposition) names no task of the domain";
+        TASK_STEP_ARITY = "E0431" "task-step-arity" Error "an abstract step gives its task the wrong number of arguments";
+        UNKNOWN_METHOD = "E0432" "unknown-method" Error "a decomposition names no method of the domain";
+        WRONG_METHOD = "E0433" "wrong-method" Error "a decomposition's method is a method of another task";
+        METHOD_HEAD_MISMATCH = "E0434" "method-head-mismatch" Error "an abstract step's arguments do not unify with its method's `:task` (a constant, a repeated variable, a parameter's type)";
+        MISSING_SUBTASK = "E0435" "missing-subtask" Error "a subtask of the method has no step among the decomposition's subtasks";
+        UNEXPECTED_SUBTASK = "E0436" "unexpected-subtask" Error "a step listed as a subtask fits no subtask of the method left";
+        DUPLICATE_SUBTASK = "E0437" "duplicate-subtask" Error "a decomposition or the `root` line lists the same step twice";
+        SUBTASK_LISTING_ORDER = "E0438" "subtask-listing-order" Error "subtasks (or roots) listed in an order the method's (or the `:htn`'s) ordering forbids; pandaPIparser matches them in the listed order";
+        ORDERING_VIOLATED = "E0439" "ordering-violated" Error "an ordering of a method or of the `:htn` does not hold in the plan's order or times";
+        SHARED_STEP = "E0440" "shared-step" Error "a step is a subtask of two decompositions, or a root and a subtask";
+        ORPHAN_STEP = "E0441" "orphan-step" Error "a step that the `root` line does not reach through decompositions";
+        DECOMPOSITION_CYCLE = "E0442" "decomposition-cycle" Error "a step is its own subtask, directly or through other decompositions";
+        HTN_MISMATCH = "E0443" "htn-mismatch" Error "the roots of the plan are not the tasks of the problem's `:htn`";
+        METHOD_PRECONDITION_FALSE = "E0444" "method-precondition-false" Error "a method's precondition or constraint is false where the method is applied";
+        ABSTRACT_STEP_TIMING = "E0445" "abstract-step-timing" Error "a timed abstract step does not contain the times of its subtasks";
+        ABSTRACT_ACTION_VIOLATED = "E0446" "abstract-action-violated" Error "a HiPOP abstract action's precondition is false where its step starts, or its effect where it ends";
+        METHOD_DURATION_VIOLATED = "E0447" "method-duration-violated" Error "a timed abstract step's duration does not satisfy the duration constraint of its durative method or HiPOP abstract action";
+        HIERARCHY_NOT_CHECKED = "W0430" "hierarchy-not-checked" Warning "a part of a plan's hierarchy the validator cannot check (method effects and durations, HDDL 2.1 constraints, too many matchings)";
     }
 }
 

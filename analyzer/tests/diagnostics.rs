@@ -320,9 +320,10 @@ fn recovery_fixtures() {
 }
 
 /// Every code of the registry has a fixture named after it. The plan codes
-/// (E04xx, W04xx) are about plans, which `hipop check` does not read: their
-/// fixtures are in `tests/plans/` (reading, `tests/plans.rs`) and
-/// `tests/validate/` (validation, `tests/validate.rs`).
+/// (E04xx and W04xx) are about plans, which `hipop check` does not read:
+/// the fixtures of reading plans are in `tests/plans/` (`tests/plans.rs`),
+/// those of temporal plan validation (E0410–E0429, W0410–W0429) in
+/// `tests/validate/` (`analyzer/tests/validate.rs`).
 #[test]
 fn every_code_has_a_fixture() {
     let names: Vec<String> = std::fs::read_dir(broken_dir())

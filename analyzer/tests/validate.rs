@@ -330,7 +330,12 @@ fn check_fixture(path: &Path) {
         return;
     };
     let tolerance = header(&text, "tolerance").map_or(0.01, |t| t.parse().expect("a tolerance"));
-    let options = Options { tolerance, lenient: header(&text, "lenient").is_some(), keep_going: false };
+    let options = Options {
+        tolerance,
+        lenient: header(&text, "lenient").is_some(),
+        keep_going: false,
+        ignore_listed_order: false,
+    };
     let o = validate((&domain.0, &domain.1), (&problem.0, &problem.1), (&name, &text), &options);
     let rendered = render(&o);
     insta::assert_snapshot!(rendered);

@@ -117,6 +117,10 @@ struct ValidateArgs {
     /// (which may be consequences of the first).
     #[arg(short = 'c', long)]
     keep_going: bool,
+    /// Like pandaPIparser's `-o`: in a hierarchical plan, a decomposition may
+    /// list its subtasks in any order, not only one its method's ordering allows.
+    #[arg(short = 'o', long)]
+    ignore_listed_order: bool,
     /// The verdict the plans should have: `invalid` for regression suites of
     /// known-bad plans (exit 0 when each plan is invalid).
     #[arg(long, value_enum, default_value_t = validate::Expect::Valid)]
@@ -275,6 +279,7 @@ fn main() -> ExitCode {
                     tolerance: args.tolerance,
                     lenient: args.lenient,
                     keep_going: args.keep_going,
+                    ignore_listed_order: args.ignore_listed_order,
                 },
                 expect: args.expect,
             };

@@ -473,23 +473,28 @@ fn validate_refuses_a_model_with_errors_and_an_unreadable_plan() {
     assert!(stderr(&o).contains("not validated: the plan cannot be read"), "{}", stderr(&o));
 }
 
-/// `hipop validate` on every plan of tests/validate (one defect each, or
-/// valid): the human and the JSON output, as snapshots. Each plan's header
+/// `hipop validate` on every plan of tests/validate and tests/validate-htn
+/// (one defect each, or valid): the human and the JSON output, as snapshots. Each plan's header
 /// names its domain, problem and tolerance (`corpus:` is ../shared/corpora).
 #[test]
 fn validate_output_for_each_kind_of_defect() {
-    let dir = workspace_root().join("tests/validate");
     if !workspace_root().join("../shared/corpora").is_dir() {
         eprintln!("SKIP: ../shared/corpora is absent");
         return;
     }
+    validate_fixtures("tests/validate", 20);
+    validate_fixtures("tests/validate-htn", 20);
+}
+
+fn validate_fixtures(folder: &str, at_least: usize) {
+    let dir = workspace_root().join(folder);
     let mut names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .filter_map(|e| e.ok()?.file_name().into_string().ok())
         .filter(|n| n.ends_with(".plan"))
         .collect();
     names.sort();
-    assert!(names.len() >= 20, "{names:?}");
+    assert!(names.len() >= at_least, "{names:?}");
     for name in names {
         let text = std::fs::read_to_string(dir.join(&name)).unwrap();
         let header = |key: &str| {
@@ -497,14 +502,17 @@ fn validate_output_for_each_kind_of_defect() {
         };
         let model = |v: String| match v.strip_prefix("corpus:") {
             Some(rest) => format!("../shared/corpora/{rest}"),
-            None => format!("tests/validate/{v}"),
+            None => format!("{folder}/{v}"),
         };
         let (Some(d), Some(p)) = (header("domain").map(model), header("problem").map(model)) else {
             panic!("{name}: no `; domain:` or `; problem:` header")
         };
         let tolerance = header("tolerance").unwrap_or_else(|| "0.01".into());
-        let plan = format!("tests/validate/{name}");
-        let args = ["validate", &d, &p, &plan, "-t", &tolerance, "--color", "never"];
+        let plan = format!("{folder}/{name}");
+        let mut args = vec!["validate", &d, &p, &plan, "-t", &tolerance, "--color", "never"];
+        if header("ignore-listed-order").is_some() {
+            args.push("--ignore-listed-order");
+        }
         let human = hipop(&args);
         assert_no_panic(&human);
         let expect_valid = header("expect").is_some_and(|e| e.starts_with("valid"));
@@ -521,7 +529,7 @@ fn validate_output_for_each_kind_of_defect() {
         assert_eq!(status(&human), wanted, "{name}: {}", stderr(&human));
         insta::assert_snapshot!(format!("validate_human@{name}"), stderr(&human));
         if !model_broken {
-            let json = hipop(&[&args[..], &["--format", "json"]].concat());
+            let json = hipop(&[&args[..], &["--format", "json"][..]].concat());
             let doc: Value = serde_json::from_str(&stdout(&json)).expect("one JSON document");
             insta::assert_json_snapshot!(format!("validate_json@{name}"), doc);
         }

@@ -1,11 +1,14 @@
 //! Validating a plan file: read it ([`crate::plan`]), find the steps the
-//! validators take, run them, and gather every diagnostic of the file. The
-//! one path for `hipop validate` and for plan files open in the editor.
+//! validators take, run them (the temporal validator on the primitive steps,
+//! and the hierarchy's on a plan with decompositions), and gather every
+//! diagnostic of the file. The one path for `hipop validate` and for plan
+//! files open in the editor.
 
 use crate::db::{Db, SourceFile, Unit};
 use crate::diagnostic::{Diagnostic, Severity};
-use crate::plan::{Plan, PlanFormat, Step};
+use crate::plan::{NameMatching, Plan, PlanFormat, Step};
 
+use super::hierarchy::{HierarchyOptions, validate_hierarchy};
 use super::{Options, TimedStep, validate_temporal};
 
 /// What validating a plan file found.
@@ -63,9 +66,36 @@ pub fn validate_plan<'db>(
     if plan.has_errors() {
         return Validation { valid: false, checked: false, makespan: None, value: None, diagnostics };
     }
+    // The primitive steps are executed (VAL's semantics) whatever the format;
+    // a plan with a decomposition is also checked against the methods.
     let report = validate_temporal(db, problem, &timed_steps(plan), options);
     diagnostics.extend(report.to_diagnostics(db, file));
-    let valid = report.valid && diagnostics.iter().all(|d| d.severity != Severity::Error);
+    let mut valid = report.valid;
+    if plan.is_hierarchical() {
+        let matching = if options.lenient { NameMatching::Lenient } else { NameMatching::CaseInsensitive };
+        let h = validate_hierarchy(
+            db,
+            problem,
+            plan,
+            file,
+            &HierarchyOptions {
+                matching,
+                // The temporal validator reports unknown actions and bad arguments.
+                check_primitive_steps: false,
+                listed_order: !options.ignore_listed_order,
+                tolerance: options.tolerance,
+            },
+        );
+        valid &= h.valid;
+        // Both validators refuse a model with errors the same way (E0422): say it once.
+        for d in h.diagnostics {
+            if !diagnostics.contains(&d) {
+                diagnostics.push(d);
+            }
+        }
+    }
+    diagnostics.sort_by_key(|d| (d.range.start(), d.range.end()));
+    let valid = valid && diagnostics.iter().all(|d| d.severity != Severity::Error);
     Validation { valid, checked: true, makespan: Some(report.makespan), value: report.value, diagnostics }
 }
 

@@ -45,6 +45,7 @@
 
 mod eval;
 pub mod file;
+pub mod hierarchy;
 mod temporal;
 
 pub use file::{Validation, plan_file_diagnostics, timed_steps, validate_plan};
@@ -122,6 +123,9 @@ pub struct Options {
     /// effects anyway, to find later failures. Later failures may be
     /// consequences of the first.
     pub keep_going: bool,
+    /// Hierarchical plans: accept a decomposition's subtasks listed in any
+    /// order, not only one the method's ordering allows (pandaPIparser's `-o`).
+    pub ignore_listed_order: bool,
 }
 
 impl Options {
@@ -130,7 +134,12 @@ impl Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { tolerance: Options::DEFAULT_TOLERANCE, lenient: false, keep_going: false }
+        Options {
+            tolerance: Options::DEFAULT_TOLERANCE,
+            lenient: false,
+            keep_going: false,
+            ignore_listed_order: false,
+        }
     }
 }
 
