@@ -88,7 +88,8 @@ pub mod codes {
         TRIANGLE_INEQUALITY = "W0310" "triangle-inequality" Warning "a direct move is slower than going through another position (Definition 14, property 6)";
         DEAD_ACTION = "W0311" "dead-action" Warning "an action or task that can never be in a plan with the problem's allowed actions";
         DOUBLE_INSERTION = "W0312" "double-insertion" Warning "an allowed action is also a subtask of an allowed task's method: the same plan can be built twice";
-        UNREACHABLE_GOAL = "E0313" "unreachable-goal" Error "a goal cannot be achieved with the allowed actions and their methods, even ignoring deletions";
+        UNREACHABLE_GOAL = "E0313" "unreachable-goal" Error "a goal or `:htn` task cannot be achieved with the allowed actions and the methods, even ignoring deletions";
+        UNINSTANTIABLE_METHOD = "W0314" "uninstantiable-method" Warning "a method has instances in a problem, but none whose subtasks all have instances: it can never be used";
 
         MALFORMED_STEP = "E0401" "malformed-step" Error "a plan step (a VAL line, an IPC 2020 line or a JSON step) cannot be read";
         DUPLICATE_STEP_ID = "E0402" "duplicate-step-id" Error "two steps of a plan have the same id";

@@ -493,17 +493,78 @@ pub fn ground_methods_with<'db>(
     limits: Limits,
 ) -> GroundMethods<'db> {
     let mut out = GroundMethods::default();
+    visit_methods(db, problem, g, limits, &mut |event| match event {
+        MethodEvent::Instance(m) => out.methods.push(GroundMethod {
+            method: m.method,
+            args: m.binding.into(),
+            task: (m.task.into(), m.task_args.into()),
+            subtasks: m.subtasks().map(|(n, a)| (n.into(), a.into())).collect(),
+        }),
+        MethodEvent::Done(_) => {}
+        MethodEvent::Truncated(item) => out.truncated.push(item),
+        MethodEvent::Skipped(item) => out.skipped.push(item),
+    });
+    out
+}
+
+/// One instance of a method, borrowed from [`visit_methods`]' buffers.
+pub struct MethodVisit<'a, 'db> {
+    pub method: Item<'db>,
+    /// The method's parameters' values, in declaration order.
+    pub binding: &'a [ObjId],
+    /// The task it refines, with its arguments.
+    pub task: &'a str,
+    pub task_args: &'a [ObjId],
+    names: &'a [Str],
+    args: &'a [ObjId],
+    ends: &'a [usize],
+}
+
+impl<'a> MethodVisit<'a, '_> {
+    /// Its subtasks (actions or tasks) in the order written, with their arguments.
+    pub fn subtasks(&self) -> impl Iterator<Item = (&'a str, &'a [ObjId])> + '_ {
+        self.names.iter().enumerate().map(|(j, n)| {
+            let start = if j == 0 { 0 } else { self.ends[j - 1] };
+            (n.as_str(), &self.args[start..self.ends[j]])
+        })
+    }
+}
+
+/// What [`visit_methods`] reports, method by method.
+pub enum MethodEvent<'a, 'db> {
+    /// An instance of the current method.
+    Instance(&'a MethodVisit<'a, 'db>),
+    /// The method's instances are complete (there may be none).
+    Done(Item<'db>),
+    /// The method's instances were cut at a limit (those reported are a part).
+    Truncated(Item<'db>),
+    /// The method has terms grounding cannot name: no instance.
+    Skipped(Item<'db>),
+}
+
+/// Calls `f` on each instance of a problem's methods over `g` within
+/// `limits` (see [`ground_methods_with`]), without keeping them (a large HTN
+/// problem has millions), then says whether that method's instances are
+/// complete.
+pub fn visit_methods<'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    g: &Ground<'db>,
+    limits: Limits,
+    f: &mut dyn FnMut(MethodEvent<'_, 'db>),
+) {
     let Some(domain) = domain_for(db, problem).filter(|_| problem.kind(db) == UnitKind::Problem) else {
-        return out;
+        return;
     };
     let facts = Facts::from_reached(&g.reachable, g.init.truth().to_vec(), &g.atoms);
     let mut budget = limits.candidates;
     let mut exhausted = false;
+    let (mut task_buf, mut args_buf, mut ends): (Vec<ObjId>, Vec<ObjId>, Vec<usize>) = Default::default();
     for &item in domain.items(db).iter().filter(|i| i.section(db) == Section::Method) {
         let Some(m) = method_schema(db, item) else { continue };
         let Some((task, task_args, _)) = &m.task else { continue };
         if exhausted {
-            out.truncated.push(item);
+            f(MethodEvent::Truncated(item));
             continue;
         }
         let mut cx = Compiler {
@@ -517,37 +578,45 @@ pub fn ground_methods_with<'db>(
         let spec = cx.spec(&m.params, &m.pre);
         let args = |ts: &[LTerm]| ts.iter().map(|t| cx.arg(t)).collect::<Option<Vec<Arg>>>();
         let task_args = args(task_args);
-        let subtasks: Option<Vec<(Str, Vec<Arg>)>> =
-            m.subtasks.iter().map(|s| args(&s.args).map(|a| (s.name.clone(), a))).collect();
+        let subtasks: Option<Vec<Vec<Arg>>> = m.subtasks.iter().map(|s| args(&s.args)).collect();
         let (Some(task_args), Some(subtasks)) = (task_args, subtasks) else {
-            out.skipped.push(item);
+            f(MethodEvent::Skipped(item));
             continue;
         };
+        let names: Vec<Str> = m.subtasks.iter().map(|s| s.name.clone()).collect();
         let mut count = 0;
-        let methods = &mut out.methods;
         let flow = instances_over(&spec, &g.atoms, &facts, &mut budget, &mut |binding| {
             if count >= limits.method_instances {
                 return ControlFlow::Break(());
             }
             count += 1;
-            let ground = |a: &[Arg]| a.iter().map(|x| value(*x, binding)).collect::<Box<[ObjId]>>();
-            methods.push(GroundMethod {
+            task_buf.clear();
+            task_buf.extend(task_args.iter().map(|x| value(*x, binding)));
+            args_buf.clear();
+            ends.clear();
+            for a in &subtasks {
+                args_buf.extend(a.iter().map(|x| value(*x, binding)));
+                ends.push(args_buf.len());
+            }
+            f(MethodEvent::Instance(&MethodVisit {
                 method: item,
-                args: binding.into(),
-                task: (task.clone(), ground(&task_args)),
-                subtasks: subtasks.iter().map(|(n, a)| (n.clone(), ground(a))).collect(),
-            });
+                binding,
+                task,
+                task_args: &task_buf,
+                names: &names,
+                args: &args_buf,
+                ends: &ends,
+            }));
             ControlFlow::Continue(())
         });
         match flow {
-            ControlFlow::Continue(()) => {}
+            ControlFlow::Continue(()) => f(MethodEvent::Done(item)),
             ControlFlow::Break(stop) => {
-                out.truncated.push(item);
+                f(MethodEvent::Truncated(item));
                 exhausted = stop == Stop::Budget;
             }
         }
     }
-    out
 }
 
 #[cfg(test)]

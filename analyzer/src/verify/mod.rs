@@ -13,7 +13,11 @@
 //! - [`duration`]: durations evaluated from the problem's fluents (`E0305`).
 //! - [`families`]: position families and move actions confirmed on the ground
 //!   problem (Definitions 12 and 14: I0307, I0308, W0309, W0310).
-//! - `allowed`: lints of `(:allowed-actions …)` (section 4.2.2: W0311, W0312).
+//! - `allowed`: lints of `(:allowed-actions …)` (section 4.2.2: W0311, W0312)
+//!   and of what the allowed set and the methods can achieve (E0313: goals and
+//!   `:htn` tasks out of reach).
+//! - `decompose`: the relaxed decomposition over ground methods that E0313
+//!   uses, and methods whose subtasks have no instance in a problem (W0314).
 //!
 //! Lints are found in two salsa queries: [`domain_lints`] (what a domain alone
 //! shows) and [`problem_lints`] (what needs a problem and its domain; they may
@@ -27,6 +31,7 @@
 
 mod allowed;
 pub mod conflicts;
+mod decompose;
 pub mod duration;
 pub mod families;
 pub mod geometry;
@@ -125,6 +130,7 @@ pub fn problem_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
     out.extend(fams.lints.iter().cloned());
     out.extend(families::rejected_lints(fams));
     allowed::lints(db, unit, domain, &|name| fams.is_move(name, db), &mut out);
+    out.extend(decompose::decomposition_lints(db, unit).iter().cloned());
     out
 }
 

@@ -1,4 +1,4 @@
-; E0313 unreachable-goal: see the problem.
+; E0313 unreachable-goal: see problem.pddl.
 (define (domain survey)
   (:requirements :typing :durative-actions)
   (:types robot waypoint poi)
