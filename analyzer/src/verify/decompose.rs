@@ -33,6 +33,14 @@ use crate::semantics::symbols::Loc;
 /// that static ones can prune instances that exist.
 const NEGATED_CONJUNCTION: &str = "a negated conjunction (a disjunction)";
 
+/// The limits of the method instances these lints visit: 2,000 per method
+/// rather than [`Limits::DEFAULT`]'s 10,000. A method cut at the limit is of no
+/// use (its task counts as refinable), and over the IPC 2020 corpus 70 % of
+/// the instances visited at 10,000 were those of methods cut anyway; the
+/// methods of a HiPOP mission have far fewer (448 in all for the 5 MB
+/// generated problem).
+const LIMITS: Limits = Limits { method_instances: 2_000, ..Limits::DEFAULT };
+
 /// No ground operator (an action call), or no schema (a name grounding does not know).
 const NONE: u32 = u32::MAX;
 
@@ -176,7 +184,7 @@ impl<'a, 'db> Index<'a, 'db> {
         let mut rows: Vec<u32> = Vec::new();
         let mut count = 0usize;
         let mut key: Vec<u32> = Vec::new();
-        visit_methods(db, problem, g, Limits::DEFAULT, &mut |event| match event {
+        visit_methods(db, problem, g, LIMITS, &mut |event| match event {
             MethodEvent::Instance(m) => {
                 if shape.is_empty() {
                     let schema = |n: &str| idx.schema.get(n).copied().unwrap_or(NONE);
