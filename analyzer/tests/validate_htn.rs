@@ -15,9 +15,9 @@
 use std::path::{Path, PathBuf};
 
 use hipop_analyzer::db::{UnitKind, file_units};
-use hipop_analyzer::plan::{NameMatching, Plan, read_plan};
+use hipop_analyzer::plan::{NameMatching, read_plan};
 use hipop_analyzer::validate::hierarchy::{HierarchyOptions, HierarchyReport, validate_hierarchy};
-use hipop_analyzer::validate::{Options, TimedStep, validate_temporal};
+use hipop_analyzer::validate::{Options, timed_steps, validate_temporal};
 use hipop_analyzer::{AnalysisHost, Diagnostic, Severity, SourceFile, TextRange, codes};
 
 fn corpora() -> Option<PathBuf> {
@@ -52,23 +52,6 @@ impl Outcome {
     fn all(&self) -> impl Iterator<Item = &Diagnostic> {
         self.reading.iter().chain(&self.report.diagnostics).chain(&self.execution)
     }
-}
-
-/// The primitive steps of a plan, as the temporal validator takes them.
-fn timed_steps(plan: &Plan) -> Vec<TimedStep> {
-    plan.primitive_steps()
-        .map(|(_, s)| TimedStep {
-            name: s.name.text.to_string(),
-            args: s.args.iter().map(|a| a.text.to_string()).collect(),
-            time: s.start.as_ref().map(|t| t.value),
-            duration: s.duration.as_ref().map(|d| d.value),
-            span: s.range,
-            name_span: s.name.range,
-            arg_spans: s.args.iter().map(|a| a.range).collect(),
-            time_span: s.start.as_ref().map(|t| t.range),
-            duration_span: s.duration.as_ref().map(|d| d.range),
-        })
-        .collect()
 }
 
 /// Validates a plan for a problem and its domain, each given as (name, text).

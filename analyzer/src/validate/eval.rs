@@ -22,7 +22,7 @@ use rowan::TextRange;
 use crate::model::{Atom, CmpOp, Effect, Fluent, Gd, Name, NumExpr, Term, TimeSpec, Typed};
 use crate::semantics::check::gd_span;
 use crate::semantics::symbols::type_set;
-use crate::verify::state::{AtomId, Atoms, Interner, ObjId, Objects};
+use crate::verify::state::{AtomId, Atoms, InitialState, Interner, ObjId, Objects, initial_state};
 
 /// A ground atom `[pred, args…]` or a ground fluent `[func, args…]`, before
 /// it is interned: most have at most three arguments and stay inline.
@@ -80,6 +80,41 @@ impl World<'_, '_> {
     /// A ground fluent as text: `(fuel plane1)`.
     pub fn show_fluent(&self, key: &[u32]) -> String {
         self.show(self.funcs, key)
+    }
+}
+
+/// The ground vocabulary of a problem and its initial state, as both
+/// validators start from: predicate and function names interned in sorted
+/// order (hash maps have no order, so ids do not depend on hashing).
+pub(crate) struct GroundWorld<'db> {
+    pub preds: Interner,
+    pub funcs: Interner,
+    pub atoms: Atoms,
+    pub init: InitialState<'db>,
+}
+
+impl<'db> GroundWorld<'db> {
+    pub fn new(
+        db: &'db dyn crate::db::Db,
+        domain: crate::db::Unit<'db>,
+        problem: crate::db::Unit<'db>,
+        objects: &Objects<'db>,
+    ) -> Self {
+        let dom = crate::semantics::symbols::domain_symbols(db, domain);
+        let sorted = |keys: &mut dyn Iterator<Item = &str>| {
+            let mut names: Vec<&str> = keys.collect();
+            names.sort_unstable();
+            let mut interner = Interner::default();
+            names.iter().for_each(|n| {
+                interner.intern(n);
+            });
+            interner
+        };
+        let mut preds = sorted(&mut dom.predicates.keys().map(|k| k.as_str()));
+        let mut funcs = sorted(&mut dom.functions.keys().map(|k| k.as_str()));
+        let mut atoms = Atoms::default();
+        let init = initial_state(db, problem, objects, &mut preds, &mut funcs, &mut atoms);
+        GroundWorld { preds, funcs, atoms, init }
     }
 }
 

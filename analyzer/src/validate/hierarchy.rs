@@ -147,21 +147,8 @@ pub fn validate_hierarchy(
             "give the domain file with the problem",
         );
     };
-    for (unit, what) in [(domain, "domain"), (problem, "problem")] {
-        let errors = crate::semantics::unit_diagnostics(db, unit)
-            .iter()
-            .filter(|d| d.severity == Severity::Error)
-            .count();
-        if errors > 0 {
-            let name = unit.name(db).clone().unwrap_or_default();
-            let s = if errors == 1 { "" } else { "s" };
-            return not_validated(
-                format!(
-                    "the plan is not validated: the {what} `{name}` has {errors} error{s}, so it may not mean what it says"
-                ),
-                &format!("fix the {what} first (`hipop check` lists its errors)"),
-            );
-        }
+    if let Some((message, hint)) = super::model_errors(db, domain, problem) {
+        return not_validated(message, &hint);
     }
     let mut cx = Cx::new(db, domain, problem, plan, plan_file, options);
     cx.run();

@@ -257,6 +257,28 @@ impl<'db> Report<'db> {
     }
 }
 
+/// Why a domain or problem with errors cannot be validated against: the
+/// message and hint of E0422, or `None` when both are free of errors (a plan
+/// is only validated against a model that means what it says).
+pub(crate) fn model_errors(db: &dyn Db, domain: Unit<'_>, problem: Unit<'_>) -> Option<(String, String)> {
+    [(domain, "domain"), (problem, "problem")].into_iter().find_map(|(unit, what)| {
+        let errors = crate::semantics::unit_diagnostics(db, unit)
+            .iter()
+            .filter(|d| d.severity == crate::diagnostic::Severity::Error)
+            .count();
+        (errors > 0).then(|| {
+            let name = unit.name(db).clone().unwrap_or_default();
+            let s = if errors == 1 { "" } else { "s" };
+            (
+                format!(
+                    "the plan is not validated: the {what} `{name}` has {errors} error{s}, so it may not mean what it says"
+                ),
+                format!("fix the {what} first (`hipop check` lists its errors)"),
+            )
+        })
+    })
+}
+
 /// Validates a temporal (or sequential) plan for a problem, against the
 /// problem's domain.
 pub fn validate_temporal<'db>(

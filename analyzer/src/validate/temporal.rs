@@ -10,8 +10,8 @@ use rowan::TextRange;
 use rustc_hash::FxHashMap;
 
 use super::eval::{
-    Binding, Changes, ErrorKind, Eval, EvalError, FluentId, Key, NumOp, Phase, Reads, Spanning, State, Why,
-    World, fmt_num, split_timed,
+    Binding, Changes, ErrorKind, Eval, EvalError, FluentId, GroundWorld, Key, NumOp, Phase, Reads, Spanning,
+    State, Why, World, fmt_num, split_timed,
 };
 use super::{Failure, Options, Report, TimedStep};
 use crate::db::{Db, Item, Section, Unit, UnitKind, lower_item};
@@ -19,7 +19,7 @@ use crate::diagnostic::{Code, Severity, codes};
 use crate::model::{Action, ActionKind, CmpOp, Gd, InitElement, ItemData, Name, NumExpr, Term};
 use crate::semantics::check::{domain_for, gd_span, suggest};
 use crate::semantics::symbols::{Loc, domain_symbols, problem_symbols, type_set};
-use crate::verify::state::{AtomId, Atoms, InitialState, Interner, ObjId, Objects, constant, initial_state};
+use crate::verify::state::{AtomId, Atoms, InitialState, Interner, ObjId, Objects, constant};
 
 /// A step, grounded: its action and arguments, its times.
 struct Step<'db> {
@@ -160,23 +160,8 @@ pub(crate) fn validate<'db>(
     if let Some(f) = unsupported_model(db, domain, problem, at) {
         return invalid(vec![f]);
     }
-    for (unit, what) in [(domain, "domain"), (problem, "problem")] {
-        let errors = crate::semantics::unit_diagnostics(db, unit)
-            .iter()
-            .filter(|d| d.severity == Severity::Error)
-            .count();
-        if errors > 0 {
-            let name = unit.name(db).clone().unwrap_or_default();
-            let s = if errors == 1 { "" } else { "s" };
-            return invalid(vec![Failure::new(
-                codes::MODEL_NOT_VALIDATABLE,
-                at,
-                format!(
-                    "the plan is not validated: the {what} `{name}` has {errors} error{s}, so it may not mean what it says"
-                ),
-            )
-            .hint(format!("fix the {what} first (`hipop check` lists its errors)"))]);
-        }
+    if let Some((message, hint)) = super::model_errors(db, domain, problem) {
+        return invalid(vec![Failure::new(codes::MODEL_NOT_VALIDATABLE, at, message).hint(hint)]);
     }
     let model = prepare(db, domain, problem);
     let mut failures = Vec::new();
@@ -300,21 +285,7 @@ fn prepare<'db>(db: &'db dyn Db, domain: Unit<'db>, problem: Unit<'db>) -> Model
     let dom = domain_symbols(db, domain);
     let prob = problem_symbols(db, problem);
     let objects = Objects::new(dom, prob);
-    let mut preds = Interner::default();
-    let mut funcs = Interner::default();
-    // Hash maps have no order: sort so that ids do not depend on hashing.
-    let mut names: Vec<&str> = dom.predicates.keys().map(|k| k.as_str()).collect();
-    names.sort_unstable();
-    names.iter().for_each(|n| {
-        preds.intern(n);
-    });
-    let mut names: Vec<&str> = dom.functions.keys().map(|k| k.as_str()).collect();
-    names.sort_unstable();
-    names.iter().for_each(|n| {
-        funcs.intern(n);
-    });
-    let mut atoms = Atoms::default();
-    let init = initial_state(db, problem, &objects, &mut preds, &mut funcs, &mut atoms);
+    let GroundWorld { preds, funcs, atoms, init } = GroundWorld::new(db, domain, problem, &objects);
     let mut actions = FxHashMap::default();
     for &item in domain.items(db) {
         if let ItemData::Action(a) = &lower_item(db, item).data {

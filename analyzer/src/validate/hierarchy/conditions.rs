@@ -24,12 +24,12 @@ use super::decompose::precedences;
 use super::timeline::{EventKind, Timeline};
 use crate::diagnostic::codes;
 use crate::model::{ActionKind, CmpOp, Effect, Gd, Method, NumExpr, Str, Term, TimeSpec, Typed};
-use crate::semantics::symbols::{Loc, domain_symbols};
+use crate::semantics::symbols::Loc;
 use crate::validate::eval::{
-    Binding, Changes, Eval, EvalError, Phase, Res, State, World, fmt_num, for_each_binding, has_timed,
-    op_text, split_timed,
+    Binding, Changes, Eval, EvalError, GroundWorld, Phase, Res, State, World, fmt_num, for_each_binding,
+    has_timed, op_text, split_timed,
 };
-use crate::verify::state::{Atoms, Interner, ObjId, initial_state};
+use crate::verify::state::{Atoms, ObjId};
 
 /// Variables and their values.
 type Values = Vec<(Str, ObjId)>;
@@ -247,21 +247,7 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
     let roots: Vec<usize> =
         (0..nodes.len()).filter(|&n| cx.parent[nodes[n].step].is_none_or(|p| node_of[p].is_none())).collect();
     // The ground world.
-    let dom = domain_symbols(db, cx.domain);
-    let mut preds = Interner::default();
-    let mut funcs = Interner::default();
-    let mut names: Vec<&str> = dom.predicates.keys().map(|k| k.as_str()).collect();
-    names.sort_unstable();
-    names.iter().for_each(|n| {
-        preds.intern(n);
-    });
-    let mut names: Vec<&str> = dom.functions.keys().map(|k| k.as_str()).collect();
-    names.sort_unstable();
-    names.iter().for_each(|n| {
-        funcs.intern(n);
-    });
-    let mut atoms = Atoms::default();
-    let init = initial_state(db, cx.problem, &cx.objects, &mut preds, &mut funcs, &mut atoms);
+    let GroundWorld { preds, funcs, atoms, init } = GroundWorld::new(db, cx.domain, cx.problem, &cx.objects);
     let mut state = State::new(atoms, Atoms::default());
     for &(a, _) in &init.facts {
         state.set(a, true);
