@@ -111,7 +111,7 @@ def show_file(path):
 def run(args):
     argv = args.split()
     r = subprocess.run([hipop] + argv + ['--color', 'never'], capture_output=True, text=True)
-    assert r.returncode in (0, 1, 2) and 'panicked' not in r.stderr, (args, r.returncode, r.stderr)
+    assert r.returncode in (0, 1, 2, 3) and 'panicked' not in r.stderr, (args, r.returncode, r.stderr)
     shown = '\n'.join(x for x in (r.stderr.rstrip(), r.stdout.rstrip()) if x)
     return f'`hipop {args}` prints (exit status {r.returncode}):\n\n```text\n{shown}\n```'
 def plan(name):

@@ -137,6 +137,13 @@ pub mod codes {
         ABSTRACT_ACTION_VIOLATED = "E0446" "abstract-action-violated" Error "a HiPOP abstract action's precondition is false where its step starts, or its effect where it ends";
         METHOD_DURATION_VIOLATED = "E0447" "method-duration-violated" Error "a timed abstract step's duration does not satisfy the duration constraint of its durative method or HiPOP abstract action";
         HIERARCHY_NOT_CHECKED = "W0430" "hierarchy-not-checked" Warning "a part of a plan's hierarchy the validator cannot check (method effects and durations, HDDL 2.1 constraints, too many matchings)";
+
+        PLANNER_UNSUPPORTED = "E0501" "planner-unsupported" Error "the planner cannot plan this problem: a construct it does not support, errors in the model, or grounding past its limits";
+        NO_PLAN = "E0502" "no-plan" Error "no plan exists with the allowed actions and the methods: the planner explored every partial plan";
+        PLANNER_LIMIT = "E0503" "planner-limit" Error "the planner stopped at a limit (time, nodes, memory) before finding a plan";
+        PLAN_OPEN_LINK = "I0504" "open-link" Info "a condition that nothing supports in the best partial plan the planner found";
+        PLAN_THREAT = "I0505" "unresolved-threat" Info "a step that can delete a condition between its producer and its consumer, in the best partial plan";
+        PLAN_ABSTRACT_FLAW = "I0506" "abstract-flaw" Info "an abstract step the best partial plan could not refine with any method";
     }
 }
 

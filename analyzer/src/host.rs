@@ -14,6 +14,16 @@ use crate::plan::agents::AgentTable;
 use crate::plan::{NameMatching, Plan, PlanFormat};
 use crate::syntax::{TextEdit, TextSize};
 
+/// What [`Analysis::run_planner`] found.
+#[derive(Debug, Clone)]
+pub struct PlanningResult {
+    pub status: crate::planner::Status,
+    pub plan: Option<crate::planner::output::SolvedPlan>,
+    pub stats: crate::planner::Stats,
+    /// Why there is no plan (E0501, I0504–I0506), in the domain and the problem.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
 /// A request was cancelled by a newer change.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Cancelled;
@@ -300,6 +310,35 @@ impl Analysis {
                 .find(|u| u.kind(db) == crate::db::UnitKind::Problem)?;
             Some(crate::validate::validate_plan(db, plan, format, unit, options))
         })
+    }
+
+    /// Runs the HiPOP planner on the first problem of the file `problem`.
+    /// `None` when that file has no problem. `cancel` is polled during the
+    /// search (the language server sets it on every edit); `progress` is
+    /// called about every 100 ms.
+    pub fn run_planner(
+        &self,
+        problem: SourceFile,
+        config: &crate::planner::Config,
+        limits: &crate::planner::PlannerLimits,
+        cancel: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&crate::planner::Progress),
+    ) -> Cancellable<Option<PlanningResult>> {
+        let db = &self.db;
+        let run = AssertUnwindSafe(move || {
+            let unit = crate::db::file_units(db, problem)
+                .iter()
+                .copied()
+                .find(|u| u.kind(db) == crate::db::UnitKind::Problem)?;
+            let out = crate::planner::plan(db, unit, config, limits, cancel, progress);
+            Some(PlanningResult {
+                status: out.status,
+                plan: out.plan,
+                stats: out.stats,
+                diagnostics: out.lints.iter().map(|l| l.to_diagnostic(db)).collect(),
+            })
+        });
+        salsa::Cancelled::catch(run).map_err(|_| Cancelled)
     }
 
     /// The diagnostics of reading a plan (E0401–E0409, W0401–W0409).

@@ -11,6 +11,7 @@ mod host;
 pub mod ide;
 pub mod model;
 pub mod plan;
+pub mod planner;
 pub mod semantics;
 pub mod syntax;
 pub mod validate;
@@ -18,5 +19,5 @@ pub mod verify;
 
 pub use db::SourceFile;
 pub use diagnostic::{Code, Diagnostic, Fix, Related, Severity, codes};
-pub use host::{Analysis, AnalysisHost, Cancellable, Cancelled};
+pub use host::{Analysis, AnalysisHost, Cancellable, Cancelled, PlanningResult};
 pub use syntax::{TextEdit, TextRange, TextSize};

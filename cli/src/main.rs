@@ -4,6 +4,7 @@
 mod check;
 mod diff;
 mod inputs;
+mod plan;
 mod render;
 mod validate;
 
@@ -63,8 +64,64 @@ enum Command {
     /// error, a plan that cannot be read, or a domain or problem with errors.
     /// With several plans, the worst status.
     Validate(ValidateArgs),
+    /// Plan: run the HiPOP planner (hybrid partial-order and hierarchical
+    /// planning, section 4 of the HiPOP paper) on a problem and write the plan.
+    ///
+    /// The plan goes to standard output (or `-o FILE`) in VAL's format, or in
+    /// the IPC 2020 hierarchical format with hipop's timing annotations when it
+    /// has abstract steps, or as hipop's JSON plan; a summary goes to standard
+    /// error. Without a plan, the flaws of the best partial plan are reported
+    /// where they are in the domain and the problem (docs/planner.md).
+    ///
+    /// Exit status: 0 a plan was found, 1 no plan exists with the allowed
+    /// actions and the methods, 3 a limit was reached first, 2 a usage or
+    /// input error (or a model with errors or constructs the planner does
+    /// not support).
+    Plan(PlanArgs),
     /// Run the language server on standard input and output (for editors).
     Lsp,
+}
+
+#[derive(Debug, clap::Args)]
+struct PlanArgs {
+    /// The domain file.
+    domain: std::path::PathBuf,
+    /// The problem file (its first problem is planned).
+    problem: std::path::PathBuf,
+    /// Write the plan to this file rather than to standard output.
+    #[arg(short = 'o', long, value_name = "FILE")]
+    output: Option<std::path::PathBuf>,
+    /// How the plan is written.
+    #[arg(long, value_enum, default_value_t = plan::PlanOutput::Auto)]
+    format: plan::PlanOutput,
+    /// The planner configuration, named like the paper's: dash-separated
+    /// parts among `AR` (advance reuse) or `R` (reuse), `time`, `local`,
+    /// `sorted` or `threatFirst` (open-link order), `motion` or `ncm`
+    /// (geometric reasoning), `bare` (ignore abstract actions).
+    #[arg(long, value_name = "NAME", default_value = hipop_analyzer::planner::Config::DEFAULT, value_parser = plan::parse_config)]
+    config: hipop_analyzer::planner::Config,
+    /// Stop after this many seconds.
+    #[arg(long, value_name = "SECONDS", default_value = "60", value_parser = plan::parse_seconds)]
+    time_limit: std::time::Duration,
+    /// Stop after expanding this many partial plans.
+    #[arg(long, value_name = "N")]
+    node_limit: Option<u64>,
+    /// Stop when the open list would hold more than this many mebibytes (estimated).
+    #[arg(long, value_name = "MIB", default_value_t = 4096)]
+    memory_limit: usize,
+    /// Print progress (plans expanded, open list, best f) about every 100 ms.
+    #[arg(long)]
+    progress: bool,
+    /// Do not print the summary line.
+    #[arg(short, long)]
+    quiet: bool,
+    /// Print the search statistics: plans expanded and generated, time,
+    /// plans per second, ground operators, method instances, open list peak.
+    #[arg(long)]
+    stats: bool,
+    /// When to use colours in diagnostics.
+    #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
+    color: ColorWhen,
 }
 
 #[derive(Debug, clap::Args)]
@@ -284,6 +341,24 @@ fn main() -> ExitCode {
                 expect: args.expect,
             };
             ExitCode::from(validate::run(&args.domain, &args.problem, &args.plans, &options))
+        }
+        Command::Plan(args) => {
+            let options = plan::Options {
+                output: args.output,
+                format: args.format,
+                config: args.config,
+                limits: hipop_analyzer::planner::PlannerLimits {
+                    time: Some(args.time_limit),
+                    nodes: args.node_limit,
+                    memory: Some(args.memory_limit.saturating_mul(1 << 20)),
+                    ..Default::default()
+                },
+                color: args.color,
+                quiet: args.quiet,
+                progress: args.progress,
+                stats: args.stats,
+            };
+            ExitCode::from(plan::run(&args.domain, &args.problem, &options))
         }
         Command::Lsp => match hipop_lsp::run_stdio() {
             Ok(()) => ExitCode::SUCCESS,

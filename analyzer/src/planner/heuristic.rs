@@ -1,0 +1,180 @@
+//! The cost estimates HiPOP's plan selection uses (section 4.2.3):
+//! h_add over the relaxed ground model (deletions ignored, sub-goals assumed
+//! independent, as in VHPOP), in two units: time (an operator costs its
+//! duration plus the separation ε, so that instantaneous actions cost
+//! something) and effort (an operator costs 1: the tie-breaker, "the
+//! approximate number of iterations to reach a solution").
+//!
+//! Abstract operators also get a refinement estimate: the cheapest method's
+//! subtasks, recursively (a fixpoint, since methods may recurse).
+
+use super::stn::EPS;
+use super::task::{Lit, Task, lit};
+
+pub struct Heuristic {
+    /// h_add of each literal in time, and in effort (`INFINITY` when unreachable).
+    pub cost: Vec<f64>,
+    pub effort: Vec<f64>,
+    /// Estimated time and effort to refine each abstract operator.
+    pub refine_cost: Vec<f64>,
+    pub refine_effort: Vec<f64>,
+    /// Per abstract operator: the literals its refinements may make true
+    /// (sorted); `None` when the fixpoint was too large to compute, and any
+    /// literal is assumed possible.
+    pub may_add: Option<Vec<Vec<Lit>>>,
+}
+
+impl Heuristic {
+    pub fn new(task: &Task<'_>) -> Heuristic {
+        let n = task.g.atoms.len() * 2;
+        let mut cost = vec![f64::INFINITY; n];
+        let mut effort = vec![f64::INFINITY; n];
+        for a in 0..task.g.atoms.len() as u32 {
+            let l = if task.init[a as usize] { lit(a, false) } else { lit(a, true) };
+            cost[l as usize] = 0.0;
+            effort[l as usize] = 0.0;
+        }
+        for t in &task.tils {
+            cost[t.lit as usize] = cost[t.lit as usize].min(t.time);
+            effort[t.lit as usize] = 0.0;
+        }
+        // h_add: iterate to the fixpoint (Bellman–Ford style).
+        let mut changed = true;
+        let mut rounds = 0;
+        while changed && rounds < 256 {
+            changed = false;
+            rounds += 1;
+            for op in task.ops.iter() {
+                if op.dead {
+                    continue;
+                }
+                let (mut pc, mut pe) = (0.0, 0.0);
+                for c in &op.conds {
+                    pc += cost[c.lit as usize];
+                    pe += effort[c.lit as usize];
+                }
+                if !pc.is_finite() {
+                    continue;
+                }
+                let oc = pc + op.duration.unwrap_or(0.0) + EPS;
+                let oe = pe + 1.0;
+                for e in &op.effs {
+                    let k = e.lit as usize;
+                    if oc < cost[k] - 1e-9 {
+                        cost[k] = oc;
+                        changed = true;
+                    }
+                    if oe < effort[k] - 1e-9 {
+                        effort[k] = oe;
+                        changed = true;
+                    }
+                }
+            }
+        }
+        // Refinement estimates: a primitive subtask costs its duration and
+        // the h_add of its conditions; a task, its cheapest method.
+        let nops = task.ops.len();
+        let mut refine_cost = vec![f64::INFINITY; nops];
+        let mut refine_effort = vec![f64::INFINITY; nops];
+        for (i, op) in task.ops.iter().enumerate() {
+            if !op.is_abstract {
+                let pc: f64 = op.conds.iter().map(|c| cost[c.lit as usize].min(1e6)).sum();
+                let pe: f64 = op.conds.iter().map(|c| effort[c.lit as usize].min(1e6)).sum();
+                refine_cost[i] = op.duration.unwrap_or(0.0) + EPS + pc;
+                refine_effort[i] = 1.0 + pe;
+            }
+        }
+        let mut changed = true;
+        let mut rounds = 0;
+        while changed && rounds < 64 {
+            changed = false;
+            rounds += 1;
+            for m in &task.methods {
+                let (mut c, mut e) = (0.0, 1.0);
+                for &(_, s) in &m.subtasks {
+                    c += refine_cost[s as usize];
+                    e += refine_effort[s as usize];
+                }
+                let t = m.task as usize;
+                if c < refine_cost[t] - 1e-9 || e < refine_effort[t] - 1e-9 {
+                    refine_cost[t] = refine_cost[t].min(c);
+                    refine_effort[t] = refine_effort[t].min(e);
+                    changed = true;
+                }
+            }
+        }
+        let may_add = may_add(task);
+        Heuristic { cost, effort, refine_cost, refine_effort, may_add }
+    }
+
+    pub fn lit_cost(&self, l: Lit) -> f64 {
+        self.cost.get(l as usize).copied().unwrap_or(f64::INFINITY)
+    }
+
+    pub fn lit_effort(&self, l: Lit) -> f64 {
+        self.effort.get(l as usize).copied().unwrap_or(f64::INFINITY)
+    }
+
+    /// Whether a literal is reachable at all in the relaxed model.
+    pub fn reachable(&self, l: Lit) -> bool {
+        self.lit_cost(l).is_finite()
+    }
+
+    /// Whether refining abstract operator `op` may make `l` true.
+    pub fn may_add(&self, op: u32, l: Lit) -> bool {
+        match &self.may_add {
+            Some(m) => m.get(op as usize).is_some_and(|v| v.binary_search(&l).is_ok()),
+            None => true,
+        }
+    }
+}
+
+/// What the refinements of each abstract operator may add: a fixpoint over
+/// the methods, bounded in size.
+fn may_add(task: &Task<'_>) -> Option<Vec<Vec<Lit>>> {
+    const CAP: usize = 4_000_000;
+    let n = task.ops.len();
+    let mut sets: Vec<Vec<Lit>> = vec![Vec::new(); n];
+    let mut total = 0usize;
+    for (i, op) in task.ops.iter().enumerate() {
+        if !op.is_abstract {
+            let mut v: Vec<Lit> = op.effs.iter().map(|e| e.lit).collect();
+            v.sort_unstable();
+            v.dedup();
+            total += v.len();
+            sets[i] = v;
+        }
+    }
+    let mut changed = true;
+    let mut rounds = 0;
+    while changed && rounds < 64 {
+        changed = false;
+        rounds += 1;
+        for m in &task.methods {
+            let t = m.task as usize;
+            let mut add: Vec<Lit> = Vec::new();
+            for &(_, s) in &m.subtasks {
+                if s as usize != t {
+                    add.extend(
+                        sets[s as usize].iter().copied().filter(|l| sets[t].binary_search(l).is_err()),
+                    );
+                }
+            }
+            if !add.is_empty() {
+                add.sort_unstable();
+                add.dedup();
+                total += add.len();
+                if total > CAP {
+                    return None;
+                }
+                let mut merged = std::mem::take(&mut sets[t]);
+                merged.extend(add);
+                merged.sort_unstable();
+                merged.dedup();
+                sets[t] = merged;
+                changed = true;
+            }
+        }
+    }
+    Some(sets)
+}

@@ -1,0 +1,356 @@
+//! The HiPOP planner (section 4 of the HiPOP paper): hybrid partial-order
+//! and hierarchical planning over a problem's ground model, with conflicts
+//! of abstract actions, allowed actions and geometric reasoning.
+//!
+//! - [`task`]: the planning task compiled from the ground model (timed
+//!   conditions and effects, method instances, 𝒜, timed literals, the
+//!   `:htn`), and what the planner does not support, located.
+//! - [`motion`]: position families and shortest chains of moves (4.3).
+//! - [`heuristic`]: h_add and refinement estimates (4.2.3).
+//! - [`stn`], [`pvec`]: the temporal network and the persistent vectors that
+//!   make child plans cheap.
+//! - [`plan`]: partial plans and their flaws; [`search`]: Algorithm 1.
+//! - [`output`]: the solved plan in VAL's format, the IPC 2020 hierarchical
+//!   format with hipop's timing, and JSON.
+//!
+//! Pure: the caller gives the limits, a cancellation predicate and a
+//! progress callback; nothing here does I/O.
+
+pub mod heuristic;
+pub mod motion;
+pub mod output;
+pub mod plan;
+pub mod pvec;
+pub mod search;
+pub mod stn;
+pub mod task;
+
+use std::time::Duration;
+
+use crate::db::{Db, Unit};
+use crate::diagnostic::codes;
+use crate::semantics::symbols::Loc;
+use crate::verify::Lint;
+
+/// How `h` treats open links whose literal some step already produces (4.2.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlanHeuristic {
+    /// Plain h_add.
+    Add,
+    /// `R`: VHPOP's reuse, 0 when a step producing the literal can be before.
+    Reuse,
+    /// `AR`: advance reuse (Equation 1).
+    AdvanceReuse,
+}
+
+/// How open links are ordered (4.2.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FlawOrder {
+    /// The costliest open link of the most recently added step that has one.
+    Local,
+    /// The costliest open link.
+    Sorted,
+    /// Last in, first out.
+    ThreatFirst,
+}
+
+/// Geometric reasoning (4.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Motion {
+    /// None: positions are literals like any other (threats of Definition 13
+    /// and the last-known-position rule of 4.3.1 still apply to confirmed families).
+    Off,
+    /// `motion`: h_motion (Equation 2), open links to positions last,
+    /// chains of moves, minimum durations.
+    Motion,
+    /// `ncm`: the same with no cost for positions (Equation 3).
+    Ncm,
+}
+
+/// A planner configuration, named like the paper's (`AR-time-local-motion`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Config {
+    pub plan_h: PlanHeuristic,
+    pub flaws: FlawOrder,
+    pub motion: Motion,
+    /// `bare`: ignore abstract actions (POP planning).
+    pub bare: bool,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config::parse(Config::DEFAULT).expect("the default configuration parses")
+    }
+}
+
+impl Config {
+    /// The default configuration (the one the benchmarks show best).
+    pub const DEFAULT: &'static str = "AR-time-local-motion";
+
+    /// The configurations the benchmarks compare.
+    pub const MAIN: &'static [&'static str] =
+        &["AR-time-local-motion", "AR-time-local-ncm", "R-time-local", "time-threatFirst", "bare"];
+
+    /// Parses a name: dash-separated parts among `AR`/`R` (plan heuristic,
+    /// h_add without), `time` (the objective, always the makespan),
+    /// `local`/`sorted`/`threatFirst` (open links; `local` without),
+    /// `motion`/`ncm` (geometric reasoning; none without), `bare`. `bare`
+    /// alone is the default configuration without abstract actions.
+    pub fn parse(name: &str) -> Result<Config, String> {
+        if name.eq_ignore_ascii_case("bare") {
+            return Ok(Config { bare: true, ..Config::parse(Config::DEFAULT)? });
+        }
+        let mut c =
+            Config { plan_h: PlanHeuristic::Add, flaws: FlawOrder::Local, motion: Motion::Off, bare: false };
+        for part in name.split('-').filter(|p| !p.is_empty()) {
+            match part.to_ascii_lowercase().as_str() {
+                "hipop" => {}
+                "ar" => c.plan_h = PlanHeuristic::AdvanceReuse,
+                "r" => c.plan_h = PlanHeuristic::Reuse,
+                "time" => {}
+                "local" => c.flaws = FlawOrder::Local,
+                "sorted" => c.flaws = FlawOrder::Sorted,
+                "threatfirst" => c.flaws = FlawOrder::ThreatFirst,
+                "motion" => c.motion = Motion::Motion,
+                "ncm" => c.motion = Motion::Ncm,
+                "bare" => c.bare = true,
+                other => {
+                    return Err(format!(
+                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, bare)"
+                    ));
+                }
+            }
+        }
+        Ok(c)
+    }
+
+    pub fn name(&self) -> String {
+        let mut parts: Vec<&str> = Vec::new();
+        if self.bare {
+            parts.push("bare");
+        }
+        match self.plan_h {
+            PlanHeuristic::AdvanceReuse => parts.push("AR"),
+            PlanHeuristic::Reuse => parts.push("R"),
+            PlanHeuristic::Add => {}
+        }
+        parts.push("time");
+        parts.push(match self.flaws {
+            FlawOrder::Local => "local",
+            FlawOrder::Sorted => "sorted",
+            FlawOrder::ThreatFirst => "threatFirst",
+        });
+        match self.motion {
+            Motion::Motion => parts.push("motion"),
+            Motion::Ncm => parts.push("ncm"),
+            Motion::Off => {}
+        }
+        parts.join("-")
+    }
+}
+
+/// Where the planner stops.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PlannerLimits {
+    pub time: Option<Duration>,
+    /// Plans expanded.
+    pub nodes: Option<u64>,
+    /// Bytes the open list may hold (estimated).
+    pub memory: Option<usize>,
+    /// Ground instances per method.
+    pub method_instances: usize,
+}
+
+impl Default for PlannerLimits {
+    fn default() -> Self {
+        PlannerLimits {
+            time: Some(Duration::from_secs(60)),
+            nodes: None,
+            memory: Some(4 << 30),
+            method_instances: 100_000,
+        }
+    }
+}
+
+/// Which limit stopped the search.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LimitKind {
+    Time,
+    Nodes,
+    Memory,
+    Cancelled,
+}
+
+impl LimitKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LimitKind::Time => "time",
+            LimitKind::Nodes => "nodes",
+            LimitKind::Memory => "memory",
+            LimitKind::Cancelled => "cancelled",
+        }
+    }
+}
+
+/// A progress report, about every 100 ms.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Progress {
+    pub expanded: u64,
+    pub open: usize,
+    pub best_f: f64,
+    pub elapsed: Duration,
+}
+
+/// What the search did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Stats {
+    pub expanded: u64,
+    pub generated: u64,
+    pub open: usize,
+    pub peak_open: usize,
+    pub elapsed: Duration,
+    /// Ground operators and method instances of the task.
+    pub operators: usize,
+    pub methods: usize,
+}
+
+/// How planning ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Status {
+    /// A plan was found.
+    Solved,
+    /// The search space within 𝒜 and the methods is exhausted: no plan.
+    NoPlan,
+    /// A limit was reached first.
+    Limit(LimitKind),
+    /// The model has constructs the planner does not support, or errors.
+    Refused,
+}
+
+/// The result of planning.
+pub struct Outcome<'db> {
+    pub status: Status,
+    pub plan: Option<output::SolvedPlan>,
+    pub stats: Stats,
+    /// Why there is no plan: unsupported constructs, or the flaws of the
+    /// best partial plan, located in the domain and the problem.
+    pub lints: Vec<Lint<'db>>,
+}
+
+/// Plans a problem. `cancel` is polled every few dozen expansions; `progress`
+/// is called about every 100 ms.
+pub fn plan<'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    config: &Config,
+    limits: &PlannerLimits,
+    cancel: &dyn Fn() -> bool,
+    progress: &mut dyn FnMut(&Progress),
+) -> Outcome<'db> {
+    let mut stats = Stats::default();
+    let refuse = |lints| Outcome { status: Status::Refused, plan: None, stats: Stats::default(), lints };
+    if !crate::verify::model_is_clean(db, problem) {
+        let loc = Loc { item: problem.items(db)[0], span: rowan::TextRange::default() };
+        return refuse(vec![Lint::new(
+            codes::PLANNER_UNSUPPORTED,
+            loc,
+            "the problem or its domain has errors: fix them before planning",
+        )]);
+    }
+    let mut task = match task::compile(db, problem, limits) {
+        Ok(t) => t,
+        Err(unsupported) => {
+            return refuse(
+                unsupported
+                    .into_iter()
+                    .map(|u| {
+                        Lint::new(
+                            codes::PLANNER_UNSUPPORTED,
+                            u.loc,
+                            format!("the planner does not support {}", u.what),
+                        )
+                    })
+                    .collect(),
+            );
+        }
+    };
+    if config.bare {
+        if task.htn.is_some() {
+            let loc = Loc { item: problem.items(db)[0], span: rowan::TextRange::default() };
+            return refuse(vec![Lint::new(
+                codes::PLANNER_UNSUPPORTED,
+                loc,
+                "`bare` ignores abstract actions, which an `:htn` problem cannot do without",
+            )]);
+        }
+        bare(&mut task);
+    }
+    stats.operators = task.ops.len();
+    stats.methods = task.methods.len();
+    let h = heuristic::Heuristic::new(&task);
+    let search = search::Search::new(&task, &h, config);
+    let mut best = None;
+    let end = search.run(limits, cancel, progress, &mut stats, &mut best);
+    match end {
+        search::End2::Solved(p) => {
+            let plan = output::solved(db, &task, &p);
+            Outcome { status: Status::Solved, plan: Some(plan), stats, lints: Vec::new() }
+        }
+        search::End2::Exhausted => {
+            let mut lints = vec![Lint::new(
+                codes::NO_PLAN,
+                mission_loc(db, &task),
+                format!(
+                    "no plan with the allowed actions and the methods: the search explored every partial plan ({} expanded)",
+                    stats.expanded
+                ),
+            )];
+            lints.extend(output::flaws(db, &task, best.as_ref(), &h));
+            Outcome { status: Status::NoPlan, plan: None, stats, lints }
+        }
+        search::End2::Limit(kind) => {
+            let what = match kind {
+                LimitKind::Time => format!("the time limit ({:.1} s)", stats.elapsed.as_secs_f64()),
+                LimitKind::Nodes => format!("the node limit ({} plans expanded)", stats.expanded),
+                LimitKind::Memory => "the memory limit".to_string(),
+                LimitKind::Cancelled => "a cancellation".to_string(),
+            };
+            let mut lints = vec![Lint::new(
+                codes::PLANNER_LIMIT,
+                mission_loc(db, &task),
+                format!("no plan found before {what}; the flaws of the most advanced partial plan follow"),
+            )];
+            lints.extend(output::flaws(db, &task, best.as_ref(), &h));
+            Outcome { status: Status::Limit(kind), plan: None, stats, lints }
+        }
+    }
+}
+
+/// Where a verdict on the whole problem is reported: its first goal literal
+/// or `:htn` task, else its first section.
+fn mission_loc<'db>(db: &'db dyn Db, task: &task::Task<'db>) -> Loc<'db> {
+    task.goals
+        .first()
+        .map(|g| g.1)
+        .or_else(|| task.htn.as_ref().and_then(|n| n.tasks.first().map(|t| t.1)))
+        .unwrap_or(Loc { item: task.problem.items(db)[0], span: rowan::TextRange::default() })
+}
+
+/// `bare`: every elementary action is allowed, no abstract one.
+fn bare(task: &mut task::Task<'_>) {
+    for op in &mut task.ops {
+        op.allowed = !op.is_abstract;
+    }
+    task.achievers.clear();
+    for (i, op) in task.ops.iter().enumerate() {
+        if !op.allowed || op.dead {
+            continue;
+        }
+        for e in &op.effs {
+            let v = task.achievers.entry(e.lit).or_default();
+            if !v.iter().any(|(o, _)| *o == i as u32) {
+                v.push((i as u32, e.at));
+            }
+        }
+    }
+}

@@ -1,0 +1,444 @@
+//! Partial plans (Definition 6 of the HiPOP paper) and their flaws
+//! (Definitions 7–13): steps, causal links, the temporal network, the
+//! hierarchy, and the open links, threats and abstract flaws still to solve.
+//!
+//! A plan is cheap to copy: its steps and links are [`PVec`]s, its network a
+//! [`Stn`] of shared rows, its flaw lists small `Rc` vectors. Every
+//! operation that can fail (a constraint that makes the network
+//! inconsistent) returns `false`, and the caller drops the plan.
+
+use std::rc::Rc;
+
+use super::heuristic::Heuristic;
+use super::pvec::PVec;
+use super::stn::{EPS, ORIGIN, Stn, Tp};
+use super::task::{End, Lit, Task, atom_of, is_neg, negate};
+
+/// What a step is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// The initial state (time point: the origin).
+    Init,
+    /// The goal: after every step.
+    Goal,
+    /// A timed initial literal, by index in [`Task::tils`].
+    Til(u32),
+    /// An operator, by index in [`Task::ops`].
+    Op(u32),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Step {
+    pub kind: Kind,
+    pub start: Tp,
+    pub end: Tp,
+    /// The abstract step whose method introduced it (hierarchical relation).
+    pub parent: Option<u32>,
+    /// The method instance refining it (an abstract step), once refined.
+    pub method: Option<u32>,
+    /// When it entered the plan (flaw selection `local`).
+    pub born: u32,
+}
+
+impl Step {
+    pub fn tp(&self, e: End) -> Tp {
+        match e {
+            End::Start => self.start,
+            End::End => self.end,
+        }
+    }
+}
+
+/// `from —lit→ to`: `lit` holds from `from_tp` until `until`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Link {
+    pub from: u32,
+    pub from_tp: Tp,
+    pub to: u32,
+    pub need: Tp,
+    pub until: Tp,
+    pub lit: Lit,
+}
+
+/// A condition of a step without a causal link (Definition 7).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Open {
+    pub step: u32,
+    pub lit: Lit,
+    pub need: Tp,
+    pub until: Tp,
+    /// Which condition of the step's operator (for locating it), or
+    /// `u32::MAX` for a goal, a method precondition or an abstract effect.
+    pub cond: u32,
+    /// Where it comes from, for reports: a goal index, a method, an abstract effect.
+    pub origin: OpenOrigin,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OpenOrigin {
+    Cond(u32),
+    Goal(u32),
+    MethodPre(u32, u32),
+    /// An effect of an abstract step that its subtasks must achieve.
+    AbstractEffect,
+}
+
+/// How a step threatens a link.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ThreatKind {
+    /// It deletes the literal (negates it) at `tp`.
+    Delete(Tp),
+    /// It puts the family member elsewhere at `tp` (Definition 13).
+    Position(Tp),
+    /// An abstract step whose conflicts include the literal (Definition 11).
+    Conflict,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Threat {
+    pub link: u32,
+    pub step: u32,
+    pub kind: ThreatKind,
+}
+
+#[derive(Clone)]
+pub struct Plan {
+    pub steps: PVec<Step>,
+    pub links: PVec<Link>,
+    pub stn: Stn,
+    pub open: Rc<Vec<Open>>,
+    pub threats: Rc<Vec<Threat>>,
+    /// Abstract steps not refined yet (Definition 9).
+    pub abstracts: Rc<Vec<u32>>,
+    pub goal_tp: Tp,
+    /// Counter for [`Step::born`].
+    pub clock: u32,
+}
+
+pub const INIT: u32 = 0;
+pub const GOAL: u32 = 1;
+
+impl Plan {
+    /// The plan with the initial step, the goal step and the timed literals.
+    pub fn initial(task: &Task<'_>) -> Option<Plan> {
+        let mut stn = Stn::new();
+        let goal_tp = stn.add_point();
+        let mut p = Plan {
+            steps: PVec::new(),
+            links: PVec::new(),
+            stn,
+            open: Rc::new(Vec::new()),
+            threats: Rc::new(Vec::new()),
+            abstracts: Rc::new(Vec::new()),
+            goal_tp,
+            clock: 0,
+        };
+        p.steps.push(Step {
+            kind: Kind::Init,
+            start: ORIGIN,
+            end: ORIGIN,
+            parent: None,
+            method: None,
+            born: 0,
+        });
+        p.steps.push(Step {
+            kind: Kind::Goal,
+            start: goal_tp,
+            end: goal_tp,
+            parent: None,
+            method: None,
+            born: 0,
+        });
+        for (i, t) in task.tils.iter().enumerate() {
+            let tp = p.stn.add_point();
+            if !(p.stn.add(ORIGIN, tp, t.time) && p.stn.add(tp, ORIGIN, -t.time)) {
+                return None;
+            }
+            p.steps.push(Step {
+                kind: Kind::Til(i as u32),
+                start: tp,
+                end: tp,
+                parent: None,
+                method: None,
+                born: 0,
+            });
+        }
+        Some(p)
+    }
+
+    pub fn op_of(&self, s: u32) -> Option<u32> {
+        match self.steps[s as usize].kind {
+            Kind::Op(o) => Some(o),
+            _ => None,
+        }
+    }
+
+    /// The makespan: the latest earliest end of a step (g of section 4.2.3).
+    pub fn makespan(&self) -> f64 {
+        self.steps
+            .iter()
+            .filter(|s| matches!(s.kind, Kind::Op(_)))
+            .map(|s| self.stn.est(s.end))
+            .fold(0.0, f64::max)
+    }
+
+    /// Whether `a` is (a descendant of) `ancestor`.
+    pub fn descends(&self, mut a: u32, ancestor: u32) -> bool {
+        loop {
+            if a == ancestor {
+                return true;
+            }
+            match self.steps[a as usize].parent {
+                Some(p) => a = p,
+                None => return false,
+            }
+        }
+    }
+
+    /// The effects of a step, at its time points: literal and time point.
+    pub fn effects<'a>(&'a self, task: &'a Task<'_>, s: u32) -> impl Iterator<Item = (Lit, Tp)> + 'a {
+        let step = self.steps[s as usize];
+        let (op_effs, til, init): (&[super::task::Eff], Option<Lit>, bool) = match step.kind {
+            Kind::Op(o) => (&task.ops[o as usize].effs, None, false),
+            Kind::Til(t) => (&[], Some(task.tils[t as usize].lit), false),
+            Kind::Init => (&[], None, true),
+            Kind::Goal => (&[], None, false),
+        };
+        let _ = init;
+        op_effs.iter().map(move |e| (e.lit, step.tp(e.at))).chain(til.map(|l| (l, step.start)))
+    }
+
+    /// Whether a happening at `d` can fall inside the protection of `link`
+    /// (strictly after its producer, up to the end of its protection).
+    pub fn can_be_inside(&self, link: &Link, d: Tp) -> bool {
+        if d == link.from_tp || d == link.until {
+            return false;
+        }
+        !self.stn.before(d, link.from_tp) && !self.stn.before(link.until, d)
+    }
+
+    /// Whether an interval `[s, e]` can overlap the protection of `link`.
+    pub fn can_overlap(&self, link: &Link, s: Tp, e: Tp) -> bool {
+        !self.stn.before(e, link.from_tp) && !self.stn.before(link.until, s)
+    }
+
+    /// The ways step `k` threatens `link` (Definitions 8, 11 and 13).
+    pub fn threat_of(&self, task: &Task<'_>, k: u32, link: &Link, out: &mut Vec<ThreatKind>) {
+        let step = self.steps[k as usize];
+        let threatened = negate(link.lit);
+        let family = if is_neg(link.lit) { None } else { task.family[atom_of(link.lit) as usize] };
+        for (l, tp) in self.effects(task, k) {
+            if (k == link.to && tp == link.until) || (k == link.from && tp == link.from_tp) {
+                continue;
+            }
+            if l == threatened {
+                if self.can_be_inside(link, tp) {
+                    out.push(ThreatKind::Delete(tp));
+                }
+            } else if let Some((g, _)) = family
+                && !is_neg(l)
+                && l != link.lit
+                && task.family[atom_of(l) as usize].is_some_and(|(g2, _)| g2 == g)
+                && self.can_be_inside(link, tp)
+            {
+                out.push(ThreatKind::Position(tp));
+            }
+        }
+        if let Kind::Op(o) = step.kind {
+            let op = &task.ops[o as usize];
+            if !op.conflicts.is_empty()
+                && op.conflicts_with(task.g, atom_of(link.lit))
+                && !self.descends(link.from, k)
+                && !self.descends(link.to, k)
+                && self.can_overlap(link, step.start, step.end)
+            {
+                out.push(ThreatKind::Conflict);
+            }
+        }
+    }
+
+    /// Whether a recorded threat still is one.
+    pub fn still_threat(&self, task: &Task<'_>, t: &Threat) -> bool {
+        let link = self.links[t.link as usize];
+        let step = self.steps[t.step as usize];
+        match t.kind {
+            ThreatKind::Delete(tp) | ThreatKind::Position(tp) => self.can_be_inside(&link, tp),
+            ThreatKind::Conflict => {
+                let _ = task;
+                self.can_overlap(&link, step.start, step.end)
+            }
+        }
+    }
+
+    /// Records the threats of step `k` on every link.
+    pub fn threats_of_step(&mut self, task: &Task<'_>, k: u32) {
+        let mut found = Vec::new();
+        let mut kinds = Vec::new();
+        for (i, link) in self.links.iter().enumerate() {
+            kinds.clear();
+            self.threat_of(task, k, link, &mut kinds);
+            found.extend(kinds.iter().map(|&kind| Threat { link: i as u32, step: k, kind }));
+        }
+        if !found.is_empty() {
+            Rc::make_mut(&mut self.threats).extend(found);
+        }
+    }
+
+    /// Records the threats of every step on link `i`.
+    pub fn threats_of_link(&mut self, task: &Task<'_>, i: u32) {
+        let link = self.links[i as usize];
+        let mut found = Vec::new();
+        let mut kinds = Vec::new();
+        for k in 0..self.steps.len() as u32 {
+            kinds.clear();
+            self.threat_of(task, k, &link, &mut kinds);
+            found.extend(kinds.iter().map(|&kind| Threat { link: i, step: k, kind }));
+        }
+        if !found.is_empty() {
+            Rc::make_mut(&mut self.threats).extend(found);
+        }
+    }
+
+    /// Adds a step for operator `o` (under `parent`, if a method introduces
+    /// it) with its open links and threats. `None` if the network rejects it.
+    pub fn add_step(&mut self, task: &Task<'_>, h: &Heuristic, o: u32, parent: Option<u32>) -> Option<u32> {
+        let op = &task.ops[o as usize];
+        let start = self.stn.add_point();
+        let end = if op.instant { start } else { self.stn.add_point() };
+        if !op.instant {
+            match op.duration {
+                Some(d) => {
+                    if !(self.stn.add(start, end, d) && self.stn.add(end, start, -d)) {
+                        return None;
+                    }
+                }
+                None => {
+                    if !self.stn.add(start, end, 0.0) {
+                        return None;
+                    }
+                }
+            }
+        }
+        if !self.stn.add(end, self.goal_tp, EPS) {
+            return None;
+        }
+        if let Some(p) = parent {
+            let ps = self.steps[p as usize];
+            if !(self.stn.add(ps.start, start, 0.0) && self.stn.add(end, ps.end, 0.0)) {
+                return None;
+            }
+        }
+        self.clock += 1;
+        let s = self.steps.len() as u32;
+        self.steps.push(Step { kind: Kind::Op(o), start, end, parent, method: None, born: self.clock });
+        // Open links, one per literal (its widest protection).
+        let mut opens: Vec<Open> = Vec::with_capacity(op.conds.len());
+        for (ci, c) in op.conds.iter().enumerate() {
+            let need = if c.at == End::Start { start } else { end };
+            let until = if c.until == End::Start { start } else { end };
+            if let Some(o) = opens.iter_mut().find(|o| o.lit == c.lit) {
+                if need == start {
+                    o.need = start;
+                }
+                if until == end {
+                    o.until = end;
+                }
+                continue;
+            }
+            if !h.reachable(c.lit) && !task.holds_initially(c.lit) {
+                return None;
+            }
+            opens.push(Open {
+                step: s,
+                lit: c.lit,
+                need,
+                until,
+                cond: ci as u32,
+                origin: OpenOrigin::Cond(ci as u32),
+            });
+        }
+        for o in &opens {
+            if !self.position_bound(task, o) {
+                return None;
+            }
+        }
+        if !opens.is_empty() {
+            Rc::make_mut(&mut self.open).extend(opens);
+        }
+        if op.is_abstract {
+            Rc::make_mut(&mut self.abstracts).push(s);
+        }
+        self.threats_of_step(task, s);
+        Some(s)
+    }
+
+    /// Adds an open link of another origin (goal, method precondition, abstract effect).
+    pub fn add_open(&mut self, task: &Task<'_>, o: Open) -> bool {
+        if !self.position_bound(task, &o) {
+            return false;
+        }
+        Rc::make_mut(&mut self.open).push(o);
+        true
+    }
+
+    /// Section 4.3.2, "adding temporal constraints": an open link to a
+    /// position cannot be reached sooner than the shortest chain of moves
+    /// from the last position known to be before it.
+    fn position_bound(&mut self, task: &Task<'_>, o: &Open) -> bool {
+        if is_neg(o.lit) {
+            return true;
+        }
+        let Some((m, group, to)) = task.motion_of(atom_of(o.lit)) else { return true };
+        let mut best: Option<(Tp, u32)> = None;
+        for (s, step) in self.steps.iter().enumerate() {
+            if s as u32 == o.step {
+                continue;
+            }
+            for (l, tp) in self.effects(task, s as u32) {
+                if is_neg(l) {
+                    continue;
+                }
+                let Some((g2, pos)) = task.family[atom_of(l) as usize] else { continue };
+                if g2 != group || !(tp == ORIGIN || self.stn.before(tp, o.need)) {
+                    continue;
+                }
+                if best.is_none_or(|(b, _)| self.stn.before(b, tp)) {
+                    best = Some((tp, pos));
+                }
+            }
+            let _ = step;
+        }
+        if best.is_none()
+            && let Some(&a) = m.positions.iter().find(|&&a| task.init[a as usize])
+            && let Some((_, p)) = task.family[a as usize]
+        {
+            best = Some((ORIGIN, p));
+        }
+        match best {
+            Some((tp, from)) => {
+                let d = m.dist(from as usize, to as usize);
+                if !d.is_finite() {
+                    return false;
+                }
+                d == 0.0 || self.stn.add(tp, o.need, d)
+            }
+            None => true,
+        }
+    }
+
+    /// Adds the causal link `from —lit→ open` and its threats.
+    pub fn add_link(&mut self, task: &Task<'_>, from: u32, from_tp: Tp, o: &Open) -> bool {
+        if !self.stn.add(from_tp, o.need, EPS) {
+            return false;
+        }
+        let link = Link { from, from_tp, to: o.step, need: o.need, until: o.until, lit: o.lit };
+        let i = self.links.len() as u32;
+        self.links.push(link);
+        self.threats_of_link(task, i);
+        true
+    }
+
+    pub fn remove_open(&mut self, i: usize) -> Open {
+        Rc::make_mut(&mut self.open).remove(i)
+    }
+}

@@ -1,0 +1,699 @@
+//! Algorithm 1 of the HiPOP paper: A* over partial plans, with HiPOP's plan
+//! and flaw selection (section 4.2.3) and geometric reasoning (4.3).
+//!
+//! - Plan selection: `f = g + h`, `g` the makespan of the plan's earliest
+//!   schedule, `h` the sum of the estimates of its open links (h_add, or its
+//!   `reuse`, `advance-reuse`, `motion` and `ncm` variants, Equations 1–3)
+//!   plus the refinement estimates of its abstract flaws; ties broken on the
+//!   remaining effort, then last in, first out.
+//! - Flaw selection: threats first (last found first), then open links
+//!   (`local`: those of the step most recently added that still has some;
+//!   `sorted`: all of them; the costliest first; `threatFirst`: last in,
+//!   first out), open links to positions last when move actions exist, then
+//!   abstract flaws in chronological order. A plan without those is checked
+//!   for interfering happenings at the same time (VAL's mutex), which are
+//!   ordered one way or the other.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+use std::time::Instant;
+
+use super::heuristic::Heuristic;
+use super::plan::{GOAL, INIT, Kind, Open, OpenOrigin, Plan, Threat, ThreatKind};
+use super::stn::{EPS, ORIGIN, Tp};
+use super::task::{End, Lit, Task, atom_of, is_neg};
+use super::{Config, FlawOrder, LimitKind, Motion, PlanHeuristic, PlannerLimits, Progress, Stats};
+
+/// A plan in the open list.
+struct Node {
+    f: f64,
+    effort: f64,
+    id: u64,
+    plan: Plan,
+}
+
+impl PartialEq for Node {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Node {}
+impl PartialOrd for Node {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Node {
+    /// The best node is the greatest (BinaryHeap is a max-heap).
+    fn cmp(&self, other: &Self) -> Ordering {
+        other.f.total_cmp(&self.f).then(other.effort.total_cmp(&self.effort)).then(self.id.cmp(&other.id))
+    }
+}
+
+/// The flaw chosen in a plan.
+enum Flaw {
+    Threat(usize),
+    Open(usize),
+    Abstract(usize),
+    Mutex(Tp, Tp),
+}
+
+pub struct Search<'a, 'db> {
+    pub task: &'a Task<'db>,
+    pub h: &'a Heuristic,
+    pub config: &'a Config,
+    pub has_motion: bool,
+}
+
+/// How a search ended.
+pub enum End2 {
+    Solved(Plan),
+    Exhausted,
+    Limit(LimitKind),
+}
+
+impl<'a, 'db> Search<'a, 'db> {
+    pub fn new(task: &'a Task<'db>, h: &'a Heuristic, config: &'a Config) -> Self {
+        let has_motion = config.motion != Motion::Off && task.motion.iter().any(|m| m.is_some());
+        Search { task, h, config, has_motion }
+    }
+
+    /// The initial plan: init, goal, timed literals, the goal's open links,
+    /// the `:htn` tasks with their orderings.
+    pub fn initial(&self) -> Option<Plan> {
+        let mut p = Plan::initial(self.task)?;
+        for (i, &(l, _)) in self.task.goals.iter().enumerate() {
+            let o = Open {
+                step: GOAL,
+                lit: l,
+                need: p.goal_tp,
+                until: p.goal_tp,
+                cond: u32::MAX,
+                origin: OpenOrigin::Goal(i as u32),
+            };
+            if !p.add_open(self.task, o) {
+                return None;
+            }
+        }
+        if let Some(net) = &self.task.htn {
+            let mut ids = Vec::new();
+            for &(op, _) in &net.tasks {
+                ids.push(p.add_step(self.task, self.h, op, None)?);
+            }
+            for o in &net.orders {
+                let a = p.steps[ids[o.from.0] as usize].tp(o.from.1);
+                let b = p.steps[ids[o.to.0] as usize].tp(o.to.1);
+                if !p.stn.add(a, b, if o.strict { EPS } else { 0.0 }) {
+                    return None;
+                }
+            }
+        }
+        Some(p)
+    }
+
+    fn is_position_link(&self, l: Lit) -> bool {
+        self.has_motion && !is_neg(l) && self.task.motion_of(atom_of(l)).is_some()
+    }
+
+    /// Producers of a literal that could come before `need` and that are
+    /// the last of their family before it (4.3.1): `(step, time point)`.
+    fn producers(&self, p: &Plan, o: &Open, out: &mut Vec<(u32, Tp)>) {
+        out.clear();
+        if self.task.holds_initially(o.lit) && o.step != INIT {
+            out.push((INIT, ORIGIN));
+        }
+        for s in 0..p.steps.len() as u32 {
+            for (l, tp) in p.effects(self.task, s) {
+                if l == o.lit && tp != o.need && !p.stn.before(o.need, tp) && !(s == o.step && tp == o.until)
+                {
+                    out.push((s, tp));
+                }
+            }
+        }
+        // The last known position: drop producers that another position
+        // change of the same member necessarily follows before the need.
+        if !is_neg(o.lit)
+            && let Some((group, _)) = self.task.family[atom_of(o.lit) as usize]
+            && !out.is_empty()
+        {
+            let mut changes: Vec<Tp> = Vec::new();
+            for s in 0..p.steps.len() as u32 {
+                for (l, tp) in p.effects(self.task, s) {
+                    if !is_neg(l)
+                        && l != o.lit
+                        && self.task.family[atom_of(l) as usize].is_some_and(|(g, _)| g == group)
+                        && p.stn.before(tp, o.need)
+                    {
+                        changes.push(tp);
+                    }
+                }
+            }
+            out.retain(|&(_, e)| !changes.iter().any(|&c| (e == ORIGIN || p.stn.before(e, c)) && c != e));
+        }
+    }
+
+    /// h of a plan, and the effort.
+    fn estimate(&self, p: &Plan) -> (f64, f64) {
+        let (mut h, mut effort) = (0.0, 0.0);
+        let mut prod = Vec::new();
+        for o in p.open.iter() {
+            let (c, e) = self.open_cost(p, o, &mut prod);
+            h += c;
+            effort += e;
+        }
+        for &a in p.abstracts.iter() {
+            if let Kind::Op(op) = p.steps[a as usize].kind {
+                h += self.h.refine_cost[op as usize].min(1e6);
+                effort += self.h.refine_effort[op as usize].min(1e6);
+            }
+        }
+        effort += p.threats.len() as f64;
+        (h, effort)
+    }
+
+    fn open_cost(&self, p: &Plan, o: &Open, prod: &mut Vec<(u32, Tp)>) -> (f64, f64) {
+        let base = (self.h.lit_cost(o.lit).min(1e6), self.h.lit_effort(o.lit).min(1e6));
+        if !is_neg(o.lit)
+            && self.config.motion != Motion::Off
+            && let Some((m, _, to)) = self.task.motion_of(atom_of(o.lit))
+        {
+            if self.config.motion == Motion::Ncm {
+                return (0.0, 1.0);
+            }
+            // Equation 2: the shortest chain of moves from a last known position.
+            let group = self.task.family[atom_of(o.lit) as usize].map(|(g, _)| g);
+            let mut best = f64::INFINITY;
+            let mut any = false;
+            for s in 0..p.steps.len() as u32 {
+                for (l, tp) in p.effects(self.task, s) {
+                    if is_neg(l) || p.stn.before(o.need, tp) || tp == o.need {
+                        continue;
+                    }
+                    if let Some((g, from)) = self.task.family[atom_of(l) as usize]
+                        && Some(g) == group
+                    {
+                        any = true;
+                        best = best.min(m.dist(from as usize, to as usize));
+                    }
+                }
+            }
+            if let Some(&a) = m.positions.iter().find(|&&a| self.task.init[a as usize])
+                && let Some((_, from)) = self.task.family[a as usize]
+            {
+                any = true;
+                best = best.min(m.dist(from as usize, to as usize));
+            }
+            if any {
+                return (best.min(1e6), if best == 0.0 { 0.0 } else { 1.0 });
+            }
+            return base;
+        }
+        match self.config.plan_h {
+            PlanHeuristic::Add => base,
+            PlanHeuristic::Reuse => {
+                self.producers_any(p, o, prod);
+                if prod.is_empty() { base } else { (0.0, 0.0) }
+            }
+            PlanHeuristic::AdvanceReuse => {
+                self.producers_any(p, o, prod);
+                // Equation 1: a producer that can be before, and every step
+                // deleting the literal ordered with it.
+                for &(_, e) in prod.iter() {
+                    let mut ok = true;
+                    'steps: for s in 0..p.steps.len() as u32 {
+                        for (l, tp) in p.effects(self.task, s) {
+                            if l == o.lit ^ 1 && !(p.stn.before(tp, e) || p.stn.before(e, tp) || e == ORIGIN)
+                            {
+                                ok = false;
+                                break 'steps;
+                            }
+                        }
+                    }
+                    if ok {
+                        return (0.0, 0.0);
+                    }
+                }
+                base
+            }
+        }
+    }
+
+    fn producers_any(&self, p: &Plan, o: &Open, out: &mut Vec<(u32, Tp)>) {
+        out.clear();
+        if self.task.holds_initially(o.lit) {
+            out.push((INIT, ORIGIN));
+            return;
+        }
+        for s in 0..p.steps.len() as u32 {
+            for (l, tp) in p.effects(self.task, s) {
+                if l == o.lit && tp != o.need && !p.stn.before(o.need, tp) {
+                    out.push((s, tp));
+                    return;
+                }
+            }
+        }
+    }
+
+    /// Picks the flaw to solve, dropping threats that orderings solved since.
+    fn select(&self, p: &mut Plan) -> Option<Flaw> {
+        // Threats, last found first.
+        while let Some(t) = p.threats.last().copied() {
+            if p.still_threat(self.task, &t) {
+                return Some(Flaw::Threat(p.threats.len() - 1));
+            }
+            std::rc::Rc::make_mut(&mut p.threats).pop();
+        }
+        // Open links that nothing can support yet while an unrefined
+        // abstract step that may come before them could (its subtasks are
+        // not in the plan yet) wait for the abstract flaws.
+        let ready: Vec<usize> = (0..p.open.len()).filter(|&i| !self.deferred(p, &p.open[i])).collect();
+        if !ready.is_empty() {
+            let positions_last = self.has_motion;
+            let candidates: Vec<usize> = {
+                let non_pos: Vec<usize> = ready
+                    .iter()
+                    .copied()
+                    .filter(|&i| !(positions_last && self.is_position_link(p.open[i].lit)))
+                    .collect();
+                if non_pos.is_empty() { ready } else { non_pos }
+            };
+            let pick = match self.config.flaws {
+                FlawOrder::ThreatFirst => *candidates.last().expect("non-empty"),
+                FlawOrder::Sorted => self.costliest(p, candidates.iter().copied()),
+                FlawOrder::Local => {
+                    let newest = candidates
+                        .iter()
+                        .map(|&i| p.steps[p.open[i].step as usize].born)
+                        .max()
+                        .expect("non-empty");
+                    self.costliest(
+                        p,
+                        candidates
+                            .iter()
+                            .copied()
+                            .filter(|&i| p.steps[p.open[i].step as usize].born == newest),
+                    )
+                }
+            };
+            return Some(Flaw::Open(pick));
+        }
+        if p.abstracts.is_empty() && !p.open.is_empty() {
+            // Every open link is unsupported and no abstract step is left.
+            return Some(Flaw::Open(0));
+        }
+        if !p.abstracts.is_empty() {
+            let (i, _) = p
+                .abstracts
+                .iter()
+                .enumerate()
+                .map(|(i, &s)| (i, p.stn.est(p.steps[s as usize].start)))
+                .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+                .expect("non-empty");
+            return Some(Flaw::Abstract(i));
+        }
+        self.mutex(p)
+    }
+
+    /// Whether an open link must wait: an unrefined abstract step that can
+    /// come before it may make its literal true once refined (its subtasks
+    /// are not in the plan yet, and linking to another producer now could
+    /// lose the plan). Section 4.2.3: abstract steps hide the literals their
+    /// methods create, hence abstract flaws in chronological order first.
+    fn deferred(&self, p: &Plan, o: &Open) -> bool {
+        if p.abstracts.is_empty() {
+            return false;
+        }
+        p.abstracts.iter().any(|&a| {
+            let st = p.steps[a as usize];
+            let Kind::Op(op) = st.kind else { return false };
+            a != o.step
+                && !p.descends(o.step, a)
+                && !p.stn.before(o.need, st.start)
+                && self.h.may_add(op, o.lit)
+        })
+    }
+
+    fn is_ancestor_task(&self, p: &Plan, mut s: u32, op: u32) -> bool {
+        loop {
+            if p.op_of(s) == Some(op) {
+                return true;
+            }
+            match p.steps[s as usize].parent {
+                Some(parent) => s = parent,
+                None => return false,
+            }
+        }
+    }
+
+    fn costliest(&self, p: &Plan, it: impl Iterator<Item = usize>) -> usize {
+        let mut best: Option<(usize, f64)> = None;
+        for i in it {
+            let c = self.h.lit_cost(p.open[i].lit);
+            if best.is_none_or(|(_, b)| c > b) {
+                best = Some((i, c));
+            }
+        }
+        best.map_or(0, |(i, _)| i)
+    }
+
+    /// Two interfering happenings at the same time in the earliest
+    /// schedule: VAL groups them into one happening and rejects the plan.
+    fn mutex(&self, p: &Plan) -> Option<Flaw> {
+        // (time, time point, step) of every happening of a primitive step or timed literal.
+        let mut events: Vec<(f64, Tp, u32)> = Vec::new();
+        for (s, step) in p.steps.iter().enumerate() {
+            let prim = match step.kind {
+                Kind::Op(o) => !self.task.ops[o as usize].is_abstract,
+                Kind::Til(_) => true,
+                _ => false,
+            };
+            if !prim {
+                continue;
+            }
+            events.push((p.stn.est(step.start), step.start, s as u32));
+            if step.end != step.start {
+                events.push((p.stn.est(step.end), step.end, s as u32));
+            }
+        }
+        events.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (i, a) in events.iter().enumerate() {
+            for b in &events[i + 1..] {
+                if b.0 - a.0 > EPS * 0.5 {
+                    break;
+                }
+                if a.2 == b.2 || p.stn.before(a.1, b.1) && b.0 - a.0 >= EPS - 1e-9 {
+                    continue;
+                }
+                if self.interfere(p, a.1, a.2, b.1, b.2) {
+                    return Some(Flaw::Mutex(a.1, b.1));
+                }
+            }
+        }
+        None
+    }
+
+    /// What a happening reads and writes, by atom.
+    fn touched(&self, p: &Plan, tp: Tp, s: u32) -> (Vec<u32>, Vec<u32>) {
+        let (mut reads, mut writes) = (Vec::new(), Vec::new());
+        let step = p.steps[s as usize];
+        for (l, t) in p.effects(self.task, s) {
+            if t == tp {
+                writes.push(atom_of(l));
+            }
+        }
+        if let Kind::Op(o) = step.kind {
+            for c in &self.task.ops[o as usize].conds {
+                if step.tp(c.at) == tp || step.tp(c.until) == tp {
+                    reads.push(atom_of(c.lit));
+                }
+            }
+        }
+        (reads, writes)
+    }
+
+    fn interfere(&self, p: &Plan, a: Tp, sa: u32, b: Tp, sb: u32) -> bool {
+        let (ra, wa) = self.touched(p, a, sa);
+        let (rb, wb) = self.touched(p, b, sb);
+        wa.iter().any(|x| rb.contains(x) || wb.contains(x)) || wb.iter().any(|x| ra.contains(x))
+    }
+
+    /// The children of a plan for its chosen flaw.
+    fn resolvers(&self, p: &Plan, flaw: Flaw, out: &mut Vec<Plan>) {
+        match flaw {
+            Flaw::Threat(i) => {
+                let t: Threat = p.threats[i];
+                let link = p.links[t.link as usize];
+                let step = p.steps[t.step as usize];
+                let (before, after) = match t.kind {
+                    ThreatKind::Delete(tp) | ThreatKind::Position(tp) => {
+                        ((tp, link.from_tp), (link.until, tp))
+                    }
+                    ThreatKind::Conflict => ((step.end, link.from_tp), (link.until, step.start)),
+                };
+                for (a, b) in [before, after] {
+                    let mut c = p.clone();
+                    std::rc::Rc::make_mut(&mut c.threats).remove(i);
+                    if c.stn.add(a, b, EPS) {
+                        out.push(c);
+                    }
+                }
+            }
+            Flaw::Open(i) => self.open_resolvers(p, i, out),
+            Flaw::Abstract(i) => {
+                let s = p.abstracts[i];
+                let Kind::Op(op) = p.steps[s as usize].kind else { return };
+                for &m in &self.task.ops[op as usize].methods {
+                    // A method whose subtask is the same ground task as the
+                    // step or one of its ancestors only goes round a loop.
+                    if self.task.methods[m as usize]
+                        .subtasks
+                        .iter()
+                        .any(|&(_, sub)| self.is_ancestor_task(p, s, sub))
+                    {
+                        continue;
+                    }
+                    let mut c = p.clone();
+                    std::rc::Rc::make_mut(&mut c.abstracts).remove(i);
+                    if self.refine(&mut c, s, m) {
+                        out.push(c);
+                    }
+                }
+            }
+            Flaw::Mutex(a, b) => {
+                for (x, y) in [(a, b), (b, a)] {
+                    let mut c = p.clone();
+                    if c.stn.add(x, y, EPS) {
+                        out.push(c);
+                    }
+                }
+            }
+        }
+    }
+
+    fn open_resolvers(&self, p: &Plan, i: usize, out: &mut Vec<Plan>) {
+        let o = p.open[i];
+        let mut base = p.clone();
+        base.remove_open(i);
+        // Causal links to existing steps.
+        let mut prod = Vec::new();
+        self.producers(p, &o, &mut prod);
+        for &(s, tp) in &prod {
+            let mut c = base.clone();
+            if c.add_link(self.task, s, tp, &o) {
+                out.push(c);
+            }
+        }
+        // Chains of moves from the last known positions (4.3.2).
+        let position = !is_neg(o.lit) && self.has_motion && self.task.motion_of(atom_of(o.lit)).is_some();
+        if position {
+            self.move_chains(&base, &o, out);
+        }
+        // New steps from 𝒜.
+        if let Some(achievers) = self.task.achievers.get(&o.lit) {
+            for &(op, at) in achievers {
+                if position && self.task.moves.contains_key(&op) {
+                    continue;
+                }
+                if self.config.bare && self.task.ops[op as usize].is_abstract {
+                    continue;
+                }
+                let mut c = base.clone();
+                let Some(s) = c.add_step(self.task, self.h, op, None) else { continue };
+                let tp = c.steps[s as usize].tp(at);
+                if c.add_link(self.task, s, tp, &o) {
+                    out.push(c);
+                }
+            }
+        }
+    }
+
+    /// Supports a position by the shortest chain of moves from each last
+    /// known position of its member.
+    fn move_chains(&self, base: &Plan, o: &Open, out: &mut Vec<Plan>) {
+        let Some((m, group, to)) = self.task.motion_of(atom_of(o.lit)) else { return };
+        // Last known positions: producers of another position of the group.
+        let mut starts: Vec<(u32, Tp, u32)> = Vec::new();
+        let mut prod = Vec::new();
+        for (pos, &atom) in m.positions.iter().enumerate() {
+            if pos as u32 == to {
+                continue;
+            }
+            let probe = Open { lit: super::task::lit(atom, false), ..*o };
+            self.producers(base, &probe, &mut prod);
+            starts.extend(prod.iter().map(|&(s, tp)| (s, tp, pos as u32)));
+        }
+        let _ = group;
+        for (s, tp, from) in starts {
+            let Some(path) = m.path(from, to, |mv| self.task.moves[&mv].2) else { continue };
+            let mut c = base.clone();
+            let mut prev =
+                (s, tp, self.task.motion_of(atom_of(probe_lit(m, from))).map(|_| probe_lit(m, from)));
+            let mut ok = true;
+            for (k, &mv) in path.iter().enumerate() {
+                let Some(ns) = c.add_step(self.task, self.h, mv, None) else {
+                    ok = false;
+                    break;
+                };
+                // Link the move's from-position to the previous producer.
+                let from_lit = probe_lit(m, self.task.moves[&mv].1);
+                let Some(idx) = c.open.iter().rposition(|x| x.step == ns && x.lit == from_lit) else {
+                    ok = false;
+                    break;
+                };
+                let open = c.remove_open(idx);
+                if !c.add_link(self.task, prev.0, prev.1, &open) {
+                    ok = false;
+                    break;
+                }
+                let end = c.steps[ns as usize].end;
+                prev = (ns, end, None);
+                if k + 1 == path.len() && !c.add_link(self.task, ns, end, o) {
+                    ok = false;
+                }
+            }
+            if ok && !path.is_empty() {
+                out.push(c);
+            }
+        }
+    }
+
+    /// Refines abstract step `s` with method instance `m`: its subtasks as
+    /// children within the step, the method's orderings, its precondition,
+    /// and the step's own effects as open links its subtasks must achieve.
+    fn refine(&self, p: &mut Plan, s: u32, m: u32) -> bool {
+        let method = &self.task.methods[m as usize];
+        if let Some(st) = p.steps.get_mut(s as usize) {
+            st.method = Some(m);
+        }
+        let mut ids = Vec::with_capacity(method.subtasks.len());
+        for &(_, op) in &method.subtasks {
+            match p.add_step(self.task, self.h, op, Some(s)) {
+                Some(id) => ids.push(id),
+                None => return false,
+            }
+        }
+        for o in &method.orders {
+            let a = p.steps[ids[o.from.0] as usize].tp(o.from.1);
+            let b = p.steps[ids[o.to.0] as usize].tp(o.to.1);
+            if !p.stn.add(a, b, if o.strict { EPS } else { 0.0 }) {
+                return false;
+            }
+        }
+        let step = p.steps[s as usize];
+        for (ci, c) in method.pre.iter().enumerate() {
+            let o = Open {
+                step: s,
+                lit: c.lit,
+                need: step.start,
+                until: step.start,
+                cond: u32::MAX,
+                origin: OpenOrigin::MethodPre(m, ci as u32),
+            };
+            if !p.add_open(self.task, o) {
+                return false;
+            }
+        }
+        let Kind::Op(op) = step.kind else { return true };
+        for e in &self.task.ops[op as usize].effs {
+            let tp = step.tp(e.at);
+            let o = Open {
+                step: s,
+                lit: e.lit,
+                need: tp,
+                until: tp,
+                cond: u32::MAX,
+                origin: OpenOrigin::AbstractEffect,
+            };
+            if !p.add_open(self.task, o) {
+                return false;
+            }
+        }
+        let _ = End::Start;
+        true
+    }
+
+    /// Runs the search.
+    pub fn run(
+        &self,
+        limits: &PlannerLimits,
+        cancel: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&Progress),
+        stats: &mut Stats,
+        best: &mut Option<Plan>,
+    ) -> End2 {
+        let started = Instant::now();
+        let Some(root) = self.initial() else { return End2::Exhausted };
+        let mut heap = BinaryHeap::new();
+        let mut id = 0u64;
+        let push = |heap: &mut BinaryHeap<Node>, plan: Plan, id: &mut u64, stats: &mut Stats| {
+            let (h, effort) = self.estimate(&plan);
+            let f = plan.makespan() + h;
+            *id += 1;
+            stats.generated += 1;
+            heap.push(Node { f, effort, id: *id, plan });
+        };
+        push(&mut heap, root, &mut id, stats);
+        let mut last_report = Instant::now();
+        let mut children = Vec::new();
+        let mut best_effort = f64::INFINITY;
+        while let Some(node) = heap.pop() {
+            let mut plan = node.plan;
+            stats.expanded += 1;
+            stats.open = heap.len();
+            stats.peak_open = stats.peak_open.max(heap.len());
+            if node.effort <= best_effort {
+                best_effort = node.effort;
+                *best = Some(plan.clone());
+            }
+            if stats.expanded.is_multiple_of(32) {
+                let elapsed = started.elapsed();
+                stats.elapsed = elapsed;
+                if cancel() {
+                    return End2::Limit(LimitKind::Cancelled);
+                }
+                if limits.time.is_some_and(|t| elapsed >= t) {
+                    return End2::Limit(LimitKind::Time);
+                }
+                if last_report.elapsed().as_millis() >= 100 {
+                    last_report = Instant::now();
+                    progress(&Progress {
+                        expanded: stats.expanded,
+                        open: heap.len(),
+                        best_f: node.f,
+                        elapsed,
+                    });
+                }
+            }
+            if limits.nodes.is_some_and(|n| stats.expanded > n) {
+                stats.elapsed = started.elapsed();
+                return End2::Limit(LimitKind::Nodes);
+            }
+            if limits.memory.is_some_and(|m| heap.len().saturating_mul(approx_plan_bytes(&plan)) > m) {
+                stats.elapsed = started.elapsed();
+                return End2::Limit(LimitKind::Memory);
+            }
+            let Some(flaw) = self.select(&mut plan) else {
+                stats.elapsed = started.elapsed();
+                return End2::Solved(plan);
+            };
+            children.clear();
+            self.resolvers(&plan, flaw, &mut children);
+            for c in children.drain(..) {
+                push(&mut heap, c, &mut id, stats);
+            }
+        }
+        stats.elapsed = started.elapsed();
+        End2::Exhausted
+    }
+}
+
+fn probe_lit(m: &super::task::MotionGroup, pos: u32) -> Lit {
+    super::task::lit(m.positions[pos as usize], false)
+}
+
+/// What a plan in the open list costs on its own beyond what it shares:
+/// the chunks a child copies (steps, links, time points) and its flaw lists.
+fn approx_plan_bytes(p: &Plan) -> usize {
+    let spine = (p.steps.len() + p.links.len() + 3 * p.stn.len()) / super::pvec::CHUNK * 8;
+    spine + 4 * 1024 + (p.open.len() + p.threats.len()) * 32
+}

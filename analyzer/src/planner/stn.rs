@@ -1,0 +1,259 @@
+//! The simple temporal network of a partial plan (Dechter et al.), kept as
+//! the least solution of its constraints plus a qualitative closure.
+//!
+//! - Constraints are `t_b ≥ t_a + w` (an edge `a → b` of weight `w`): an
+//!   ordering with a separation (`w = ε`), a duration (`t_end ≥ t_start + d`
+//!   and `t_start ≥ t_end − d`), a release date (`t_a ≥ t_0 + r`), a deadline
+//!   (`t_0 ≥ t_a − d`).
+//! - `est` is the earliest-start schedule: the least solution with every time
+//!   point at or after the origin. Adding an edge raises `est` along the
+//!   edges out of its head (a queue-based Bellman–Ford restricted to what
+//!   changes). The network was consistent before, so a new inconsistency is a
+//!   positive cycle through the new edge: the propagation comes back to raise
+//!   its tail, or raises the origin (a deadline missed). Either refuses the
+//!   edge. The makespan of a plan is the latest `est` of its steps.
+//! - `after` is the transitive closure of the edges of positive weight, one
+//!   bit row per time point: `b ∈ after[a]` means `t_b > t_a` in every
+//!   solution. It answers "can this step come between these two?" (threats,
+//!   Definitions 8, 11, 13) in one bit test. It misses orderings that only
+//!   durations or deadlines imply, which can only make the planner see a
+//!   threat that is not one: both resolvers are tried, and the STN keeps the
+//!   one that holds.
+//!
+//! Every row and every adjacency list is shared with the parent plan until
+//! written ([`PVec`] and `Rc`).
+
+use std::collections::VecDeque;
+use std::rc::Rc;
+
+use super::pvec::PVec;
+
+/// The separation of dependent happenings, as VAL's default tolerance asks.
+pub const EPS: f64 = 0.01;
+/// Below this, a change of an earliest time is rounding noise.
+const NOISE: f64 = 1e-9;
+
+pub type Tp = u32;
+pub const ORIGIN: Tp = 0;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Edge {
+    pub to: Tp,
+    pub w: f64,
+}
+
+#[derive(Clone, Debug)]
+pub struct Stn {
+    est: PVec<f64>,
+    out: PVec<Rc<Vec<Edge>>>,
+    after: PVec<Rc<Vec<u64>>>,
+}
+
+impl Default for Stn {
+    fn default() -> Self {
+        Stn::new()
+    }
+}
+
+impl Stn {
+    /// A network with the origin only.
+    pub fn new() -> Stn {
+        let mut s = Stn { est: PVec::new(), out: PVec::new(), after: PVec::new() };
+        s.add_point();
+        s
+    }
+
+    pub fn len(&self) -> usize {
+        self.est.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.est.is_empty()
+    }
+
+    /// A new time point, at or after the origin.
+    pub fn add_point(&mut self) -> Tp {
+        let t = self.est.len() as Tp;
+        self.est.push(0.0);
+        self.out.push(Rc::new(Vec::new()));
+        self.after.push(Rc::new(Vec::new()));
+        t
+    }
+
+    pub fn est(&self, t: Tp) -> f64 {
+        self.est.get(t as usize).copied().unwrap_or(0.0)
+    }
+
+    /// The edges out of a time point.
+    pub fn edges(&self, t: Tp) -> &[Edge] {
+        self.out.get(t as usize).map_or(&[], |v| v.as_slice())
+    }
+
+    /// Whether `b` is at or after `a` in every solution (by the closure).
+    pub fn before(&self, a: Tp, b: Tp) -> bool {
+        let row = &self.after[a as usize];
+        row.get(b as usize / 64).is_some_and(|w| w >> (b % 64) & 1 == 1)
+    }
+
+    /// Whether `t_b ≥ t_a + w` already holds in the closure's sense: `b` is
+    /// after `a` (only meaningful for `w ≤ ε`).
+    pub fn implied(&self, a: Tp, b: Tp, w: f64) -> bool {
+        w <= EPS && self.before(a, b) && self.est(b) >= self.est(a) + w - NOISE
+    }
+
+    /// Adds `t_b ≥ t_a + w`. `false` when the network becomes inconsistent
+    /// (the caller drops it).
+    pub fn add(&mut self, a: Tp, b: Tp, w: f64) -> bool {
+        if a as usize >= self.len() || b as usize >= self.len() || !w.is_finite() {
+            return false;
+        }
+        if a == b {
+            return w <= 0.0;
+        }
+        {
+            let out = Rc::make_mut(self.out.get_mut(a as usize).expect("in bounds"));
+            match out.iter_mut().find(|e| e.to == b) {
+                Some(e) if e.w >= w => {}
+                Some(e) => e.w = w,
+                None => out.push(Edge { to: b, w }),
+            }
+        }
+        if w >= 0.0 {
+            self.close(a, b);
+        }
+        self.propagate(a, b, w)
+    }
+
+    fn propagate(&mut self, a: Tp, b: Tp, w: f64) -> bool {
+        let start = self.est(a) + w;
+        if start <= self.est(b) + NOISE {
+            return true;
+        }
+        if b == ORIGIN {
+            return false;
+        }
+        self.est.set(b as usize, start);
+        let mut queue = VecDeque::from([b]);
+        let mut budget = 64 * (self.len() + 16) * (self.len() + 16);
+        while let Some(x) = queue.pop_front() {
+            let tx = self.est(x);
+            let out = Rc::clone(&self.out[x as usize]);
+            for e in out.iter() {
+                let t = tx + e.w;
+                if t > self.est(e.to) + NOISE {
+                    if e.to == a || e.to == ORIGIN {
+                        return false;
+                    }
+                    self.est.set(e.to as usize, t);
+                    queue.push_back(e.to);
+                }
+                budget = budget.saturating_sub(1);
+                if budget == 0 {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Adds `a < b` to the closure: every point at or before `a` gets `b`
+    /// and what follows `b`.
+    fn close(&mut self, a: Tp, b: Tp) {
+        if self.before(a, b) {
+            return;
+        }
+        let mut add: Vec<u64> = self.after[b as usize].as_ref().clone();
+        let (word, bit) = (b as usize / 64, b % 64);
+        if add.len() <= word {
+            add.resize(word + 1, 0);
+        }
+        add[word] |= 1 << bit;
+        for x in 0..self.len() {
+            if x != a as usize && !self.before(x as Tp, a) {
+                continue;
+            }
+            if self.before(x as Tp, b) {
+                continue;
+            }
+            let row = Rc::make_mut(self.after.get_mut(x).expect("in bounds"));
+            if row.len() < add.len() {
+                row.resize(add.len(), 0);
+            }
+            for (r, w) in row.iter_mut().zip(&add) {
+                *r |= w;
+            }
+        }
+    }
+
+    /// The latest times within `horizon` (every point at or before it): the
+    /// greatest solution, `None` where the network does not bound a point
+    /// below the horizon... never: every point is bounded by the horizon.
+    pub fn latest(&self, horizon: f64) -> Vec<f64> {
+        let n = self.len();
+        let mut lst = vec![horizon; n];
+        lst[ORIGIN as usize] = 0.0;
+        // t_b ≥ t_a + w  ⇒  t_a ≤ t_b − w.
+        let mut changed = true;
+        let mut rounds = 0;
+        while changed && rounds <= n + 1 {
+            changed = false;
+            rounds += 1;
+            for a in 0..n {
+                for e in self.edges(a as Tp) {
+                    let t = lst[e.to as usize] - e.w;
+                    if t < lst[a] - NOISE && a != ORIGIN as usize {
+                        lst[a] = t;
+                        changed = true;
+                    }
+                }
+            }
+        }
+        lst
+    }
+
+    /// Words of closure rows and adjacency entries that this network owns
+    /// alone (not shared with another plan): for memory measurements.
+    pub fn footprint(&self) -> usize {
+        self.len() * 3
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orderings_raise_earliest_times_and_cycles_are_refused() {
+        let mut s = Stn::new();
+        let (a, b, c) = (s.add_point(), s.add_point(), s.add_point());
+        assert!(s.add(a, b, 5.0));
+        assert!(s.add(b, c, 1.0));
+        assert_eq!(s.est(c), 6.0);
+        assert!(s.before(a, c));
+        assert!(!s.before(c, a));
+        // c ≤ a + 3 contradicts c ≥ a + 6.
+        let mut t = s.clone();
+        assert!(!t.add(c, a, -3.0));
+        // c ≤ a + 7 is fine; the parent is untouched by the child's edges.
+        assert!(s.clone().add(c, a, -7.0));
+        assert_eq!(s.edges(c).len(), 0);
+    }
+
+    #[test]
+    fn deadlines_are_checked_against_the_origin() {
+        let mut s = Stn::new();
+        let a = s.add_point();
+        let b = s.add_point();
+        assert!(s.add(a, b, 10.0));
+        // b ≤ 8 is impossible.
+        assert!(!s.clone().add(b, ORIGIN, -8.0));
+        assert!(s.add(b, ORIGIN, -12.0));
+        // a released at 3 makes b 13 > 12.
+        assert!(!s.clone().add(ORIGIN, a, 3.0));
+        assert!(s.add(ORIGIN, a, 1.5));
+        assert_eq!(s.est(b), 11.5);
+        let lst = s.latest(20.0);
+        assert_eq!(lst[b as usize], 12.0);
+        assert_eq!(lst[a as usize], 2.0);
+    }
+}

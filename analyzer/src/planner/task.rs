@@ -1,0 +1,698 @@
+//! The planning task: the problem's ground model in the form the planner
+//! searches (section 4.1 of the HiPOP paper), compiled from grounding
+//! ([`crate::verify::ground`]) and the domain's model.
+//!
+//! Unlike the STRIPS view the lints use, the planner keeps *when* each
+//! condition and effect applies: an operator has a start and an end time
+//! point (one for an `:action`), a condition is needed at one of them and
+//! protected until one of them (`at start`: start–start, `over all`:
+//! start–end, `at end`: end–end), an effect happens at one of them. Literals
+//! are signed atoms, so negative conditions are supported like positive ones
+//! (supported by a deletion, or by the closed-world initial state).
+//!
+//! What the planner cannot follow is reported here, located, before any
+//! search ([`Unsupported`]): numeric conditions, disjunctions and quantifiers
+//! in conditions, conditional and quantified effects, durations that are not
+//! one number, method effects, grounding past its limits, `:htn` parameters.
+
+use rustc_hash::FxHashMap;
+
+use super::PlannerLimits;
+use crate::db::{Db, Item, Section, Unit, UnitKind, lower_item};
+use crate::model::{
+    ActionKind, CmpOp, Effect, Endpoint, Gd, ItemData, Method, Ordering, Str, TaskNetwork, Term, TimeSpec,
+    Typed,
+};
+use crate::semantics::check::{domain_for, gd_span};
+use crate::semantics::symbols::Loc;
+use crate::verify::ground::{Ground, Limits, MethodEvent, ground, visit_methods};
+use crate::verify::lifted::OperatorKind;
+use crate::verify::state::{AtomId, ObjId, PredId};
+
+/// A signed atom: `atom * 2`, plus 1 when negated.
+pub type Lit = u32;
+
+pub fn lit(atom: AtomId, negated: bool) -> Lit {
+    atom * 2 + negated as u32
+}
+
+pub fn atom_of(l: Lit) -> AtomId {
+    l / 2
+}
+
+pub fn is_neg(l: Lit) -> bool {
+    l & 1 == 1
+}
+
+pub fn negate(l: Lit) -> Lit {
+    l ^ 1
+}
+
+/// One end of a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum End {
+    Start,
+    End,
+}
+
+/// A condition: the literal must hold at `at` and stay true until `until`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cond<'db> {
+    pub lit: Lit,
+    pub at: End,
+    pub until: End,
+    pub loc: Loc<'db>,
+}
+
+/// An effect: the literal becomes true (a negative one: the atom false) at `at`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Eff {
+    pub lit: Lit,
+    pub at: End,
+}
+
+/// A ground action (elementary) or task (abstract), Definitions 2 and 3.
+#[derive(Debug, Clone)]
+pub struct Op<'db> {
+    pub item: Item<'db>,
+    pub name: Str,
+    pub args: Vec<ObjId>,
+    pub is_abstract: bool,
+    /// An `:action`: one time point (start and end are the same happening).
+    pub instant: bool,
+    /// The duration; `None` for a task without one (its subtasks decide).
+    pub duration: Option<f64>,
+    pub conds: Vec<Cond<'db>>,
+    pub effs: Vec<Eff>,
+    /// `:conflicts` (Definition 11): predicate and arguments, `None` for a wildcard.
+    pub conflicts: Vec<(PredId, Vec<Option<ObjId>>)>,
+    pub agents: Vec<ObjId>,
+    /// In 𝒜: the planner may insert it to support a condition (4.2.2).
+    pub allowed: bool,
+    /// Its method instances (abstract operators), indices in [`Task::methods`].
+    pub methods: Vec<u32>,
+    /// Some condition can never hold (an atom no operator adds): never usable.
+    pub dead: bool,
+}
+
+impl Op<'_> {
+    pub fn conflicts_with(&self, g: &Ground<'_>, atom: AtomId) -> bool {
+        self.conflicts.iter().any(|(p, args)| {
+            *p == g.atoms.pred(atom)
+                && args.len() == g.atoms.args(atom).len()
+                && args.iter().zip(g.atoms.args(atom)).all(|(a, b)| a.is_none_or(|a| a == *b))
+        })
+    }
+}
+
+/// An ordering between two subtasks of a network: `to`'s point is at least
+/// `ε` (`strict`) or `0` after `from`'s.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NetOrder {
+    pub from: (usize, End),
+    pub to: (usize, End),
+    pub strict: bool,
+}
+
+/// An instance of a method (Definition 6: a partial plan refining a task).
+#[derive(Debug, Clone)]
+pub struct MethodInst<'db> {
+    pub item: Item<'db>,
+    pub name: Str,
+    pub task: u32,
+    /// The subtasks' operators, in the order written, with their ids.
+    pub subtasks: Vec<(Option<Str>, u32)>,
+    pub orders: Vec<NetOrder>,
+    /// Conditions at the start of the refined step (HDDL method preconditions).
+    pub pre: Vec<Cond<'db>>,
+}
+
+/// A timed initial literal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Til<'db> {
+    pub time: f64,
+    pub lit: Lit,
+    pub loc: Loc<'db>,
+}
+
+/// The problem's initial task network (`:htn`).
+#[derive(Debug, Clone, Default)]
+pub struct Network<'db> {
+    pub tasks: Vec<(u32, Loc<'db>)>,
+    pub orders: Vec<NetOrder>,
+}
+
+/// A construct the planner does not support, where it is.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Unsupported<'db> {
+    pub loc: Loc<'db>,
+    pub what: String,
+}
+
+/// A position family instance (`at r1 *`) whose positions have move actions
+/// (Definition 14, section 4.3.2): the planner reasons on it geometrically.
+#[derive(Debug, Clone)]
+pub struct MotionGroup {
+    /// Its atoms (positions), index = local position id.
+    pub positions: Vec<AtomId>,
+    /// Shortest move durations between positions (row-major, `INFINITY` when
+    /// no chain of moves connects them), and the first move of such a chain.
+    pub dist: Vec<f64>,
+    pub next_move: Vec<u32>,
+}
+
+impl MotionGroup {
+    pub fn n(&self) -> usize {
+        self.positions.len()
+    }
+
+    pub fn dist(&self, from: usize, to: usize) -> f64 {
+        self.dist[from * self.n() + to]
+    }
+}
+
+/// The planning task.
+pub struct Task<'db> {
+    pub g: &'db Ground<'db>,
+    pub problem: Unit<'db>,
+    pub ops: Vec<Op<'db>>,
+    pub methods: Vec<MethodInst<'db>>,
+    /// Operators in 𝒜 with an effect, by literal (insertion resolvers).
+    pub achievers: FxHashMap<Lit, Vec<(u32, End)>>,
+    pub init: Vec<bool>,
+    pub tils: Vec<Til<'db>>,
+    pub goals: Vec<(Lit, Loc<'db>)>,
+    pub htn: Option<Network<'db>>,
+    /// Pure HTN problem: an `:htn` and no `(:allowed-actions …)`.
+    pub pure_htn: bool,
+    /// Per atom: its position family group and local position, if any
+    /// (families confirmed by model verification, Definition 12).
+    pub family: Vec<Option<(u32, u32)>>,
+    /// Per family group: its motion data, when it has move actions.
+    pub motion: Vec<Option<MotionGroup>>,
+    /// Number of family groups.
+    pub groups: usize,
+    /// Move operators (by op index): their group, from and to positions.
+    pub moves: FxHashMap<u32, (u32, u32, u32)>,
+}
+
+impl<'db> Task<'db> {
+    pub fn holds_initially(&self, l: Lit) -> bool {
+        self.init.get(atom_of(l) as usize).copied().unwrap_or(false) != is_neg(l)
+    }
+
+    pub fn show_lit(&self, l: Lit) -> String {
+        let a = self.g.show_atom(atom_of(l));
+        if is_neg(l) { format!("(not {a})") } else { a }
+    }
+
+    pub fn show_op(&self, op: u32) -> String {
+        let o = &self.ops[op as usize];
+        crate::verify::ground::show(&o.name, &o.args, &self.g.objects)
+    }
+
+    /// Whether an atom is a position of a group with move actions.
+    pub fn motion_of(&self, atom: AtomId) -> Option<(&MotionGroup, u32, u32)> {
+        let (group, pos) = self.family.get(atom as usize).copied().flatten()?;
+        self.motion[group as usize].as_ref().map(|m| (m, group, pos))
+    }
+}
+
+type Binding = Vec<(Str, ObjId)>;
+
+struct Compiler<'a, 'db> {
+    db: &'db dyn Db,
+    g: &'a Ground<'db>,
+    unsupported: Vec<Unsupported<'db>>,
+}
+
+impl<'db> Compiler<'_, 'db> {
+    fn term(&self, t: &Term, b: &Binding) -> Option<ObjId> {
+        match t {
+            Term::Var(n) => b.iter().find(|(k, _)| *k == n.key).map(|(_, o)| *o),
+            Term::Const(n) => self.g.objects.id(&n.key),
+            _ => None,
+        }
+    }
+
+    fn unsupported(&mut self, item: Item<'db>, span: rowan::TextRange, what: &str) {
+        let loc = Loc { item, span };
+        if !self.unsupported.iter().any(|u| u.loc == loc) {
+            self.unsupported.push(Unsupported { loc, what: what.to_string() });
+        }
+    }
+
+    /// The literal of an atom under a binding: `Ok(None)` for a static atom
+    /// (grounding checked it), `Err(())` when the atom occurs nowhere (a
+    /// positive condition on it can never hold).
+    fn atom(&mut self, item: Item<'db>, a: &crate::model::Atom, b: &Binding) -> Result<Option<AtomId>, ()> {
+        let Some(pred) = self.g.predicates.get(&a.pred.key) else { return Err(()) };
+        if self.g.is_static(pred) {
+            return Ok(None);
+        }
+        let mut args = smallvec::SmallVec::<[ObjId; 4]>::new();
+        for t in &a.args {
+            match self.term(t, b) {
+                Some(o) => args.push(o),
+                None => {
+                    self.unsupported(item, a.span, "a term the planner cannot name (an object fluent)");
+                    return Ok(None);
+                }
+            }
+        }
+        self.g.atoms.find(pred, &args).map(Some).ok_or(())
+    }
+
+    /// Collects the conditions of `gd` at `time` (`None`: untimed).
+    fn conds(
+        &mut self,
+        item: Item<'db>,
+        gd: &Gd,
+        b: &Binding,
+        time: Option<TimeSpec>,
+        out: &mut Vec<Cond<'db>>,
+        dead: &mut bool,
+    ) {
+        let (at, until) = match time {
+            None | Some(TimeSpec::AtStart) => (End::Start, End::Start),
+            Some(TimeSpec::OverAll) => (End::Start, End::End),
+            Some(TimeSpec::AtEnd) => (End::End, End::End),
+        };
+        match gd {
+            Gd::And(gs, _) => gs.iter().for_each(|g| self.conds(item, g, b, time, out, dead)),
+            Gd::Timed(spec, inner, _) => self.conds(item, inner, b, Some(*spec), out, dead),
+            Gd::Atom(a) => match self.atom(item, a, b) {
+                Ok(Some(atom)) => {
+                    out.push(Cond { lit: lit(atom, false), at, until, loc: Loc { item, span: a.span } })
+                }
+                Ok(None) => {}
+                Err(()) => *dead = true,
+            },
+            Gd::Not(inner, span) => match inner.as_ref() {
+                Gd::Atom(a) => {
+                    if let Ok(Some(atom)) = self.atom(item, a, b) {
+                        out.push(Cond { lit: lit(atom, true), at, until, loc: Loc { item, span: *span } })
+                    }
+                }
+                // Grounding enforced (in)equalities.
+                Gd::Equal(..) => {}
+                other => self.unsupported(item, gd_span(other), "a negated formula in a condition"),
+            },
+            Gd::Equal(..) => {}
+            Gd::Compare(..) => self.unsupported(item, gd_span(gd), "a numeric condition"),
+            Gd::Or(_, s) => self.unsupported(item, *s, "a disjunctive condition"),
+            Gd::Imply(_, _, s) => self.unsupported(item, *s, "an implication in a condition"),
+            Gd::Forall(_, _, s) => self.unsupported(item, *s, "a universally quantified condition"),
+            Gd::Exists(_, _, s) => self.unsupported(item, *s, "an existentially quantified condition"),
+            other => self.unsupported(item, gd_span(other), "a condition the planner cannot follow"),
+        }
+    }
+
+    fn effs(&mut self, item: Item<'db>, e: &Effect, b: &Binding, time: Option<TimeSpec>, out: &mut Vec<Eff>) {
+        // Untimed effects happen at the end (an `:action` has one time point;
+        // an abstract action's effects hold once it is done).
+        let at = match time {
+            Some(TimeSpec::AtStart) => End::Start,
+            _ => End::End,
+        };
+        match e {
+            Effect::And(es, _) => es.iter().for_each(|e| self.effs(item, e, b, time, out)),
+            Effect::Timed(spec, inner, _) => self.effs(item, inner, b, Some(*spec), out),
+            Effect::Add(a) => {
+                if let Ok(Some(atom)) = self.atom(item, a, b) {
+                    out.push(Eff { lit: lit(atom, false), at });
+                }
+            }
+            Effect::Del(a, _) => {
+                if let Ok(Some(atom)) = self.atom(item, a, b) {
+                    out.push(Eff { lit: lit(atom, true), at });
+                }
+            }
+            // Numeric effects only change fluents that no condition the
+            // planner accepts reads (numeric conditions are refused, and a
+            // duration on a changing fluent has no single value).
+            Effect::Numeric(..) => {}
+            Effect::Forall(_, _, s) => self.unsupported(item, *s, "a universally quantified effect"),
+            Effect::When(_, _, s) => self.unsupported(item, *s, "a conditional effect"),
+        }
+    }
+}
+
+fn binding(params: &[Typed], args: &[ObjId]) -> Binding {
+    params.iter().zip(args).map(|(p, &o)| (p.name.key.clone(), o)).collect()
+}
+
+fn agents(params: &[Typed], agent: &[crate::model::Name], args: &[ObjId]) -> Vec<ObjId> {
+    agent
+        .iter()
+        .filter_map(|a| params.iter().position(|p| p.name.key == a.key).and_then(|i| args.get(i).copied()))
+        .collect()
+}
+
+/// Compiles a problem into a planning task, or says what the planner does
+/// not support in it.
+pub fn compile<'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    limits: &PlannerLimits,
+) -> Result<Task<'db>, Vec<Unsupported<'db>>> {
+    let none = |what: &str| {
+        vec![Unsupported {
+            loc: Loc { item: problem.items(db)[0], span: rowan::TextRange::default() },
+            what: what.to_string(),
+        }]
+    };
+    if problem.kind(db) != UnitKind::Problem || problem.items(db).is_empty() {
+        return Err(Vec::new());
+    }
+    let Some(domain) = domain_for(db, problem) else { return Err(none("a problem without its domain")) };
+    let g: &'db Ground<'db> = ground(db, problem);
+    let mut c = Compiler { db, g, unsupported: Vec::new() };
+    if g.truncated {
+        return Err(none("a problem whose grounding exceeds hipop's limits (too many ground actions)"));
+    }
+
+    // Problem sections.
+    let mut allowed_names: Option<Vec<Str>> = None;
+    let mut goal: Vec<(Item<'db>, &'db Gd)> = Vec::new();
+    let mut htn_item: Option<(Item<'db>, &'db crate::model::Htn)> = None;
+    for &item in problem.items(db) {
+        match (&lower_item(db, item).data, item.section(db)) {
+            (ItemData::AllowedActions(names), _) => {
+                allowed_names.get_or_insert_with(Vec::new).extend(names.iter().map(|n| n.key.clone()))
+            }
+            (ItemData::Goal(gd), _) => goal.push((item, gd)),
+            (ItemData::Htn(h), _) => htn_item = Some((item, h)),
+            (ItemData::Constraints(gd), _) => c.unsupported(item, gd_span(gd), "PDDL 3 constraints"),
+            _ => {}
+        }
+    }
+    let pure_htn = htn_item.is_some() && allowed_names.is_none();
+    for &item in domain.items(db) {
+        match &lower_item(db, item).data {
+            ItemData::Derived(a, _, _) => c.unsupported(item, a.span, "derived predicates"),
+            ItemData::Constraints(gd) => c.unsupported(item, gd_span(gd), "PDDL 3 constraints"),
+            _ => {}
+        }
+    }
+
+    // Operators, in the order of `g.operators`.
+    let mut ops: Vec<Op<'db>> = Vec::with_capacity(g.operators.len());
+    let mut schema_used = vec![false; g.schemas.len()];
+    for o in &g.operators {
+        let schema = &g.schemas[o.schema as usize];
+        let args = g.args(o).to_vec();
+        let item = o.op;
+        let mut op = Op {
+            item,
+            name: schema.name.clone(),
+            args: args.clone(),
+            is_abstract: schema.kind == OperatorKind::Task,
+            instant: schema.kind == OperatorKind::Action,
+            duration: None,
+            conds: Vec::new(),
+            effs: Vec::new(),
+            conflicts: Vec::new(),
+            agents: Vec::new(),
+            allowed: match &allowed_names {
+                Some(names) => names.contains(&schema.name),
+                None => !pure_htn,
+            },
+            methods: Vec::new(),
+            dead: false,
+        };
+        let report = !schema_used[o.schema as usize];
+        schema_used[o.schema as usize] = true;
+        let before = c.unsupported.len();
+        match &lower_item(db, item).data {
+            ItemData::Action(a) => {
+                let b = binding(&a.params, &args);
+                op.agents = agents(&a.params, &a.agent, &args);
+                if matches!(a.kind, ActionKind::Process | ActionKind::Event) {
+                    c.unsupported(item, a.name.span, "PDDL+ processes and events");
+                }
+                if let Some(pre) = &a.precondition {
+                    let mut dead = false;
+                    c.conds(item, pre, &b, None, &mut op.conds, &mut dead);
+                    op.dead = dead;
+                }
+                if let Some(e) = &a.effect {
+                    c.effs(item, e, &b, None, &mut op.effs);
+                }
+                op.duration = match a.kind {
+                    ActionKind::Action => Some(0.0),
+                    _ => o.duration,
+                };
+                if op.duration.is_none() {
+                    let span = a.duration.as_ref().map_or(a.name.span, gd_span);
+                    c.unsupported(
+                        item,
+                        span,
+                        "a duration that is not one number (bounds, or a changing fluent)",
+                    );
+                }
+            }
+            ItemData::Task(t) => {
+                let b = binding(&t.params, &args);
+                op.agents = agents(&t.params, &t.agent, &args);
+                if let Some(pre) = &t.precondition {
+                    let mut dead = false;
+                    c.conds(item, pre, &b, None, &mut op.conds, &mut dead);
+                    op.dead = dead;
+                }
+                if let Some(e) = &t.effect {
+                    c.effs(item, e, &b, None, &mut op.effs);
+                }
+                op.duration = o.duration;
+                if op.duration.is_none()
+                    && let Some(d) = &t.duration
+                    && !matches!(d, Gd::Compare(CmpOp::Eq, ..))
+                {
+                    c.unsupported(item, gd_span(d), "a task duration that is not one number");
+                }
+                if let Some(conf) = &t.conflicts {
+                    for a in &conf.atoms {
+                        let Some(pred) = g.predicates.get(&a.pred.key) else { continue };
+                        let args = a.args.iter().map(|t| c.term(t, &b)).collect();
+                        op.conflicts.push((pred, args));
+                    }
+                }
+            }
+            _ => op.dead = true,
+        }
+        if !report {
+            c.unsupported.truncate(before);
+        }
+        ops.push(op);
+    }
+
+    // Where each operator instance is, for method subtasks.
+    let mut op_index: FxHashMap<(Str, &[ObjId]), u32> = FxHashMap::default();
+    for (i, o) in g.operators.iter().enumerate() {
+        op_index.insert((g.schemas[o.schema as usize].name.clone(), g.args(o)), i as u32);
+    }
+
+    // Methods.
+    let mut methods: Vec<MethodInst<'db>> = Vec::new();
+    let method_limits = Limits { method_instances: limits.method_instances, ..Limits::DEFAULT };
+    let mut truncated: Vec<Item<'db>> = Vec::new();
+    let mut cache: FxHashMap<Item<'db>, Option<&'db Method>> = FxHashMap::default();
+    visit_methods(db, problem, g, method_limits, &mut |event| match event {
+        MethodEvent::Instance(m) => {
+            let method = *cache.entry(m.method).or_insert_with(|| match &lower_item(db, m.method).data {
+                ItemData::Method(me) => Some(&**me),
+                _ => None,
+            });
+            let Some(method) = method else { return };
+            let Some(&task) = op_index.get(&(Str::from(m.task), m.task_args)) else { return };
+            let mut subtasks = Vec::new();
+            for ((name, args), st) in m.subtasks().zip(&method.network.subtasks) {
+                let Some(&op) = op_index.get(&(Str::from(name), args)) else { return };
+                subtasks.push((st.id.as_ref().map(|n| n.key.clone()), op));
+            }
+            let b = binding(&method.params, m.binding);
+            let mut pre = Vec::new();
+            let mut dead = false;
+            if let Some(p) = &method.precondition {
+                c.conds(m.method, p, &b, None, &mut pre, &mut dead);
+            }
+            if dead {
+                return;
+            }
+            // Method preconditions are needed where the refined step starts.
+            for p in &mut pre {
+                p.at = End::Start;
+                p.until = End::Start;
+            }
+            let orders = network_orders(&mut c, m.method, &method.network);
+            methods.push(MethodInst {
+                item: m.method,
+                name: method.name.key.clone(),
+                task,
+                subtasks,
+                orders,
+                pre,
+            });
+        }
+        MethodEvent::Done(_) => {}
+        MethodEvent::Truncated(item) => truncated.push(item),
+        MethodEvent::Skipped(item) => {
+            c.unsupported(item, rowan::TextRange::default(), "method terms grounding cannot name")
+        }
+    });
+    for item in truncated {
+        if let ItemData::Method(m) = &lower_item(db, item).data {
+            c.unsupported(item, m.name.span, "a method with more ground instances than hipop's limit");
+        }
+    }
+    for &item in domain.items(db).iter().filter(|i| i.section(db) == Section::Method) {
+        if let ItemData::Method(m) = &lower_item(db, item).data {
+            if let Some(e) = &m.effect {
+                let span = match e {
+                    Effect::And(_, s) | Effect::Del(_, s) => *s,
+                    Effect::Add(a) => a.span,
+                    _ => m.name.span,
+                };
+                c.unsupported(item, span, "method effects");
+            }
+            if let Some(gd) = &m.network.constraints {
+                c.unsupported(item, gd_span(gd), "method constraints");
+            }
+        }
+    }
+    for (i, m) in methods.iter().enumerate() {
+        ops[m.task as usize].methods.push(i as u32);
+    }
+
+    // Achievers in 𝒜.
+    let mut achievers: FxHashMap<Lit, Vec<(u32, End)>> = FxHashMap::default();
+    for (i, op) in ops.iter().enumerate() {
+        if !op.allowed || op.dead || (op.is_abstract && op.methods.is_empty()) {
+            continue;
+        }
+        for e in &op.effs {
+            let v = achievers.entry(e.lit).or_default();
+            if !v.iter().any(|(o, _)| *o == i as u32) {
+                v.push((i as u32, e.at));
+            }
+        }
+    }
+
+    // Initial state, timed literals, goal.
+    let init: Vec<bool> = (0..g.atoms.len() as AtomId).map(|a| g.init.holds(a)).collect();
+    let tils = g
+        .init
+        .timed
+        .iter()
+        .map(|t| Til { time: t.time, lit: lit(t.atom, !t.positive), loc: t.loc })
+        .collect();
+    let mut goals = Vec::new();
+    for (item, gd) in goal {
+        let mut conds = Vec::new();
+        let mut dead = false;
+        c.conds(item, gd, &Binding::new(), None, &mut conds, &mut dead);
+        if dead {
+            return Err(vec![Unsupported {
+                loc: Loc { item, span: gd_span(gd) },
+                what: "a goal atom that no action can make true".into(),
+            }]);
+        }
+        goals.extend(conds.into_iter().map(|c| (c.lit, c.loc)));
+    }
+
+    // Initial task network.
+    let htn = match htn_item {
+        None => None,
+        Some((item, h)) => {
+            if !h.params.is_empty() {
+                c.unsupported(item, h.span, "`:htn` parameters (variables of the initial task network)");
+            }
+            let mut net = Network::default();
+            for st in &h.network.subtasks {
+                let args: Option<Vec<ObjId>> =
+                    st.call.args.iter().map(|t| c.term(t, &Binding::new())).collect();
+                let op = args.and_then(|a| op_index.get(&(st.call.name.key.clone(), a.as_slice())).copied());
+                match op {
+                    Some(op) => net.tasks.push((op, Loc { item, span: st.call.span })),
+                    None if h.params.is_empty() => {
+                        return Err(vec![Unsupported {
+                            loc: Loc { item, span: st.call.span },
+                            what: "an `:htn` task with no ground instance (its arguments' types or static preconditions rule it out)".into(),
+                        }]);
+                    }
+                    None => {}
+                }
+            }
+            net.orders = network_orders(&mut c, item, &h.network);
+            Some(net)
+        }
+    };
+
+    if !c.unsupported.is_empty() {
+        return Err(c.unsupported);
+    }
+
+    let mut task = Task {
+        g,
+        problem,
+        ops,
+        methods,
+        achievers,
+        init,
+        tils,
+        goals,
+        htn,
+        pure_htn,
+        family: vec![None; g.atoms.len()],
+        motion: Vec::new(),
+        groups: 0,
+        moves: FxHashMap::default(),
+    };
+    super::motion::families(db, problem, &mut task);
+    Ok(task)
+}
+
+/// The orderings of a task network over its subtasks' indices.
+fn network_orders<'db>(c: &mut Compiler<'_, 'db>, item: Item<'db>, net: &TaskNetwork) -> Vec<NetOrder> {
+    let mut out = Vec::new();
+    let n = net.subtasks.len();
+    if net.ordered {
+        for i in 1..n {
+            out.push(NetOrder { from: (i - 1, End::End), to: (i, End::Start), strict: true });
+        }
+        return out;
+    }
+    let index = |id: &str| net.subtasks.iter().position(|s| s.id.as_ref().is_some_and(|n| n.key == id));
+    for o in &net.ordering {
+        let order: &Ordering = o;
+        let (Some(l), Some(r)) = (index(&order.left.id.key), index(&order.right.id.key)) else { continue };
+        if order.negated {
+            c.unsupported(item, order.span, "a negated ordering");
+            continue;
+        }
+        let point = |e: Endpoint, whole: End| match e {
+            Endpoint::Whole => whole,
+            Endpoint::Start => End::Start,
+            Endpoint::End => End::End,
+        };
+        let lp = point(order.left.endpoint, End::End);
+        let rp = point(order.right.endpoint, End::Start);
+        match order.op {
+            CmpOp::Lt => out.push(NetOrder { from: (l, lp), to: (r, rp), strict: true }),
+            CmpOp::Le => out.push(NetOrder { from: (l, lp), to: (r, rp), strict: false }),
+            CmpOp::Gt => {
+                let lp = point(order.left.endpoint, End::Start);
+                let rp = point(order.right.endpoint, End::End);
+                out.push(NetOrder { from: (r, rp), to: (l, lp), strict: true })
+            }
+            CmpOp::Ge => {
+                let lp = point(order.left.endpoint, End::Start);
+                let rp = point(order.right.endpoint, End::End);
+                out.push(NetOrder { from: (r, rp), to: (l, lp), strict: false })
+            }
+            CmpOp::Eq => c.unsupported(item, order.span, "an equality ordering"),
+        }
+    }
+    let _ = c.db;
+    out
+}

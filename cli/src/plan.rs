@@ -1,0 +1,212 @@
+//! `hipop plan DOMAIN PROBLEM`: runs the HiPOP planner and writes the plan.
+//! The planner is `hipop_analyzer::planner`; this module reads the files,
+//! shows progress, writes the plan and computes the exit status.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use hipop_analyzer::planner::{Config, PlannerLimits, Status};
+use hipop_analyzer::{AnalysisHost, Severity};
+use serde_json::json;
+
+use crate::ColorWhen;
+use crate::render::{Rendered, Sources, print_stdout};
+
+/// How the plan is written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PlanOutput {
+    /// `hierarchical` when the plan has abstract steps, else `val`.
+    Auto,
+    /// VAL's temporal format: `0.000: (move r1 a b) [30.980]`.
+    Val,
+    /// IPC 2020 hierarchical format, with hipop's `;@ ID START [DURATION]` timing after `<==`.
+    Hierarchical,
+    /// hipop's JSON plan: the whole partial-order plan (schema in docs/plan-formats.md).
+    Json,
+}
+
+pub struct Options {
+    pub output: Option<PathBuf>,
+    pub format: PlanOutput,
+    pub config: Config,
+    pub limits: PlannerLimits,
+    pub color: ColorWhen,
+    pub quiet: bool,
+    pub progress: bool,
+    pub stats: bool,
+}
+
+/// Exit status: 0 plan found, 1 no plan, 3 limit reached, 2 usage or input error.
+pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
+    let mut host = AnalysisHost::new();
+    let load = |host: &mut AnalysisHost, path: &Path, what: &str| match crate::diff::read(path, what) {
+        Ok(text) => Ok(host.set_file_text(&path.display().to_string(), text)),
+        Err(m) => Err(m),
+    };
+    let (fd, fp) =
+        match (load(&mut host, domain, "a domain file"), load(&mut host, problem, "a problem file")) {
+            (Ok(d), Ok(p)) => (d, p),
+            (Err(m), _) | (_, Err(m)) => {
+                eprintln!("error: {m}");
+                return 2;
+            }
+        };
+    let analysis = host.analysis();
+    let interrupted = || {
+        eprintln!("error: the analysis was interrupted; this is a bug in hipop, please report it");
+        2u8
+    };
+    let files = [fd, fp];
+    let mut model = Vec::new();
+    for f in files {
+        match analysis.check_diagnostics(f) {
+            Ok(d) => model.extend(d.into_iter().filter(|d| d.severity == Severity::Error)),
+            Err(_) => return interrupted(),
+        }
+    }
+    let sources = Sources::new(&analysis, &files);
+    let emit = |diagnostics: &[hipop_analyzer::Diagnostic]| {
+        let rendered = Rendered { sources: &sources, diagnostics, io_errors: &[], files: 2 };
+        let stream = codespan_reporting::term::termcolor::StandardStream::stderr(
+            crate::render::color_choice(options.color),
+        );
+        rendered.emit_human(&mut stream.lock());
+    };
+    if !model.is_empty() {
+        emit(&model);
+        eprintln!("error: the domain or the problem has errors: fix them before planning");
+        return 2;
+    }
+    let show_progress = options.progress;
+    let mut progress = |p: &hipop_analyzer::planner::Progress| {
+        if show_progress {
+            eprintln!(
+                "  {:>8.1} s: {} plans expanded, {} open, best f {:.2}",
+                p.elapsed.as_secs_f64(),
+                p.expanded,
+                p.open,
+                p.best_f
+            );
+        }
+    };
+    let result = match analysis.run_planner(fp, &options.config, &options.limits, &|| false, &mut progress) {
+        Ok(Some(r)) => r,
+        Ok(None) => {
+            eprintln!("error: {}: no `(define (problem …) …)` in this file", problem.display());
+            return 2;
+        }
+        Err(_) => return interrupted(),
+    };
+    let stats = &result.stats;
+    let plural = |n: u64| if n == 1 { "" } else { "s" };
+    let search = format!(
+        "{} plan{} expanded, configuration {}",
+        stats.expanded,
+        plural(stats.expanded),
+        options.config.name()
+    );
+    if options.stats {
+        eprintln!(
+            "search: {} plans expanded, {} generated in {:.3} s ({:.0} plans/s); {} ground operators, {} method instances; open list peak {}",
+            stats.expanded,
+            stats.generated,
+            stats.elapsed.as_secs_f64(),
+            stats.expanded as f64 / stats.elapsed.as_secs_f64().max(1e-9),
+            stats.operators,
+            stats.methods,
+            stats.peak_open
+        );
+    }
+    match (&result.status, &result.plan) {
+        (Status::Solved, Some(plan)) => {
+            let header = format!(
+                "hipop plan for problem {} of domain {}\nmakespan {:.3}, {} actions, {} abstract steps\n{search}",
+                plan.problem,
+                plan.domain,
+                plan.makespan,
+                plan.primitive().count(),
+                plan.steps.len() - plan.primitive().count(),
+            );
+            let format = match options.format {
+                PlanOutput::Auto if plan.is_hierarchical() => PlanOutput::Hierarchical,
+                PlanOutput::Auto => PlanOutput::Val,
+                f => f,
+            };
+            let text = match format {
+                PlanOutput::Json => plan.to_json(),
+                PlanOutput::Hierarchical => plan.to_hierarchical(&header),
+                _ => plan.to_val(&header),
+            };
+            match &options.output {
+                Some(path) => {
+                    if let Err(e) = std::fs::write(path, &text) {
+                        eprintln!("error: {}: cannot write: {e}", path.display());
+                        return 2;
+                    }
+                }
+                None => print_stdout(&text),
+            }
+            if !options.quiet {
+                eprintln!(
+                    "plan found: {} actions, makespan {:.3}; {search}",
+                    plan.primitive().count(),
+                    plan.makespan
+                );
+            }
+            0
+        }
+        (status, _) => {
+            let (code, what) = match status {
+                Status::Refused => (2, "not planned: the planner cannot plan this problem".to_string()),
+                Status::NoPlan => (
+                    1,
+                    "no plan: every partial plan within the allowed actions and the methods was explored"
+                        .into(),
+                ),
+                Status::Limit(k) => (3, format!("no plan found: the {} limit was reached", k.as_str())),
+                Status::Solved => (1, "no plan".into()),
+            };
+            if options.format == PlanOutput::Json {
+                let rendered = Rendered {
+                    sources: &sources,
+                    diagnostics: &result.diagnostics,
+                    io_errors: &[],
+                    files: 2,
+                };
+                let doc = json!({
+                    "status": match status {
+                        Status::Refused => "refused",
+                        Status::NoPlan => "no-plan",
+                        Status::Limit(_) => "limit",
+                        Status::Solved => "solved",
+                    },
+                    "limit": match status { Status::Limit(k) => Some(k.as_str()), _ => None },
+                    "expanded": stats.expanded,
+                    "generated": stats.generated,
+                    "seconds": stats.elapsed.as_secs_f64(),
+                    "diagnostics": rendered.json_diagnostics(),
+                });
+                print_stdout(&serde_json::to_string_pretty(&doc).unwrap_or_default());
+            } else {
+                emit(&result.diagnostics);
+            }
+            eprintln!("{what}; {search}");
+            let _ = std::io::stderr().flush();
+            code
+        }
+    }
+}
+
+/// Parses a duration in seconds.
+pub fn parse_seconds(s: &str) -> Result<Duration, String> {
+    match s.parse::<f64>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(Duration::from_secs_f64(t)),
+        _ => Err(format!("`{s}` is not a number of seconds (more than 0)")),
+    }
+}
+
+/// Parses a planner configuration name.
+pub fn parse_config(s: &str) -> Result<Config, String> {
+    Config::parse(s)
+}
