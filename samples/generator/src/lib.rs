@@ -1,11 +1,13 @@
 //! Deterministic generator of hipop sample missions: the surveillance mission
-//! of the HiPOP case study, scaled-up variants for throughput benchmarks and
-//! the Survivors benchmark of the paper (with witness plans). The same
-//! arguments always give the same bytes.
+//! of the HiPOP case study, scaled-up variants for throughput benchmarks, the
+//! Survivors benchmark of the paper (with witness plans), and the IPC 2002
+//! Satellite problems with abstract actions. The same arguments always give
+//! the same bytes.
 
 mod emit;
 mod geo;
 mod rng;
+pub mod satellite;
 pub mod survivors;
 mod world;
 

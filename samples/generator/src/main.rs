@@ -1,12 +1,13 @@
 //! `hipop-samplegen`: writes the surveillance mission of the HiPOP case study
-//! (and scaled-up variants for throughput benchmarks) and the Survivors
-//! benchmark of the paper as HTN-PDDL domains and problems. Deterministic: the same arguments give the
+//! (and scaled-up variants for throughput benchmarks), the Survivors benchmark
+//! of the paper and the IPC 2002 Satellite problems with abstract actions, as
+//! HTN-PDDL domains and problems. Deterministic: the same arguments give the
 //! same bytes.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use hipop_samplegen::{DEFAULT_SEED, big, surveillance, survivors};
+use hipop_samplegen::{DEFAULT_SEED, big, satellite, surveillance, survivors};
 
 const HELP: &str = "\
 hipop-samplegen: deterministic generator of hipop sample missions.
@@ -15,6 +16,7 @@ USAGE:
     hipop-samplegen surveillance [--seed N] [--out DIR]
     hipop-samplegen big --size-mb N [--seed N] [--out DIR]
     hipop-samplegen survivors [--seed N] [--witness] [--out DIR]
+    hipop-samplegen satellite-abstract --corpus DIR [--out DIR]
     hipop-samplegen --help
 
 COMMANDS:
@@ -32,6 +34,10 @@ COMMANDS:
                     and 72 problems, p-tT-rR-zZ-sS.pddl for 2 or 3 teams of 2 robots, 2 to
                     4 rows of 2 zones of Z = 4, 9 or 16 locations, S = 2 to 5 survivors and
                     2 hospitals; patrols (one per team and zone) are abstract actions.
+    satellite-abstract
+                    The IPC 2002 temporal Satellite domain of the corpus folder DIR with
+                    abstract actions (calibrate_instrument, get_image), and a copy of each
+                    of its problems with an (:allowed-actions ...) section added.
 
 OPTIONS:
     --seed N        Seed of the pseudo-random generator (default 42). The same seed
@@ -42,6 +48,8 @@ OPTIONS:
     --witness       survivors: also write, per problem, a plan that solves it, in VAL's
                     format (STEM.plan) and in hipop's timed hierarchical format
                     (STEM.hier.plan).
+    --corpus DIR    satellite-abstract: the corpus folder (its domain.pddl and
+                    instances/*.pddl), e.g. .../ipc2002-temporal/satellite-time-simple-automatic
     -h, --help      Print this help.
 
 EXAMPLES:
@@ -55,6 +63,7 @@ enum Command {
     Surveillance { seed: u64, out: PathBuf },
     Big { size_mb: f64, seed: u64, out: PathBuf },
     Survivors { seed: u64, witness: bool, out: PathBuf },
+    SatelliteAbstract { corpus: PathBuf, out: PathBuf },
 }
 
 fn parse_args(args: &[String]) -> Result<Command, String> {
@@ -68,6 +77,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
     let mut out = PathBuf::from(".");
     let mut size_mb = None;
     let mut witness = false;
+    let mut corpus = None;
     let mut rest = args[1..].iter();
     while let Some(flag) = rest.next() {
         let mut value = |name: &str| rest.next().cloned().ok_or_else(|| format!("{name} needs a value"));
@@ -88,6 +98,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
                 size_mb = Some(n);
             }
             "--witness" if cmd == "survivors" => witness = true,
+            "--corpus" if cmd == "satellite-abstract" => corpus = Some(PathBuf::from(value("--corpus")?)),
             other => return Err(format!("unexpected argument `{other}`")),
         }
     }
@@ -98,6 +109,10 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
             Ok(Command::Big { size_mb, seed, out })
         }
         "survivors" => Ok(Command::Survivors { seed, witness, out }),
+        "satellite-abstract" => {
+            let corpus = corpus.ok_or("satellite-abstract needs --corpus DIR")?;
+            Ok(Command::SatelliteAbstract { corpus, out })
+        }
         other => Err(format!("unknown command `{other}`")),
     }
 }
@@ -135,6 +150,9 @@ fn main() -> ExitCode {
         Ok(Command::Surveillance { seed, out }) => write_files(&out, &surveillance(seed)),
         Ok(Command::Big { size_mb, seed, out }) => write_files(&out, &big(size_mb, seed)),
         Ok(Command::Survivors { seed, witness, out }) => write_all(&out, &survivors(seed, witness), false),
+        Ok(Command::SatelliteAbstract { corpus, out }) => {
+            satellite::satellite_abstract(&corpus).and_then(|files| write_all(&out, &files, false))
+        }
         Err(e) => Err(format!("{e}\n\nRun `hipop-samplegen --help` for usage.")),
     };
     match result {
@@ -166,6 +184,11 @@ mod tests {
             parse_args(&args("survivors --witness --out d")),
             Ok(Command::Survivors { seed: DEFAULT_SEED, witness: true, out: PathBuf::from("d") })
         );
+        assert_eq!(
+            parse_args(&args("satellite-abstract --corpus c --out d")),
+            Ok(Command::SatelliteAbstract { corpus: PathBuf::from("c"), out: PathBuf::from("d") })
+        );
+        assert!(parse_args(&args("satellite-abstract --out d")).is_err());
         assert!(parse_args(&args("surveillance --witness")).is_err());
         assert!(parse_args(&args("big")).is_err());
         assert!(parse_args(&args("surveillance --size-mb 3")).is_err());
