@@ -175,15 +175,6 @@ impl Witness {
         self.actions.iter().map(|a| a.start + a.duration).max().unwrap_or(0)
     }
 
-    /// The number of primitive steps.
-    pub fn len(&self) -> usize {
-        self.actions.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.actions.is_empty()
-    }
-
     fn header(&self, out: &mut String, stem: &str, format: &str) {
         writeln!(
             out,
