@@ -1,10 +1,14 @@
 //! Deterministic generator of hipop sample missions: the surveillance mission
-//! of the HiPOP case study, and scaled-up variants for throughput benchmarks.
-//! The same arguments always give the same bytes.
+//! of the HiPOP case study, scaled-up variants for throughput benchmarks, the
+//! Survivors benchmark of the paper (with witness plans), and the IPC 2002
+//! Satellite problems with abstract actions. The same arguments always give
+//! the same bytes.
 
 mod emit;
 mod geo;
 mod rng;
+pub mod satellite;
+pub mod survivors;
 mod world;
 
 use emit::Provenance;
@@ -49,6 +53,31 @@ pub fn big(size_mb: f64, seed: u64) -> (String, String) {
         }
         area = (area * ratio).max(1.0);
         files = render(&world::generate(&Params::scaled(area), seed), &prov);
+    }
+    files
+}
+
+/// The Survivors benchmark (paper, section 4.4.1): `domain.pddl` and the 72
+/// problems, as `(file name, text)` in a fixed order; with `witness`, each
+/// problem is followed by its witness plans, `STEM.plan` (VAL's format) and
+/// `STEM.hier.plan` (hipop's timed hierarchical format).
+pub fn survivors(seed: u64, witness: bool) -> Vec<(String, String)> {
+    let mut files = vec![("domain.pddl".to_string(), survivors::domain::domain())];
+    for params in survivors::Params::grid() {
+        files.extend(survivors_problem(params, seed, witness));
+    }
+    files
+}
+
+/// One problem of the Survivors benchmark, and its witness plans when asked.
+pub fn survivors_problem(params: survivors::Params, seed: u64, witness: bool) -> Vec<(String, String)> {
+    let map = survivors::Map::new(params, seed);
+    let stem = params.stem();
+    let mut files = vec![(format!("{stem}.pddl"), survivors::problem::problem(&map, seed))];
+    if witness {
+        let plan = survivors::witness::Witness::new(&map);
+        files.push((format!("{stem}.plan"), plan.val(&stem)));
+        files.push((format!("{stem}.hier.plan"), plan.hierarchical(&stem)));
     }
     files
 }

@@ -1,11 +1,13 @@
 //! `hipop-samplegen`: writes the surveillance mission of the HiPOP case study
-//! (and scaled-up variants for throughput benchmarks) as an HTN-PDDL domain
-//! and problem. Deterministic: the same arguments give the same bytes.
+//! (and scaled-up variants for throughput benchmarks), the Survivors benchmark
+//! of the paper and the IPC 2002 Satellite problems with abstract actions, as
+//! HTN-PDDL domains and problems. Deterministic: the same arguments give the
+//! same bytes.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use hipop_samplegen::{DEFAULT_SEED, big, surveillance};
+use hipop_samplegen::{DEFAULT_SEED, big, satellite, surveillance, survivors};
 
 const HELP: &str = "\
 hipop-samplegen: deterministic generator of hipop sample missions.
@@ -13,6 +15,8 @@ hipop-samplegen: deterministic generator of hipop sample missions.
 USAGE:
     hipop-samplegen surveillance [--seed N] [--out DIR]
     hipop-samplegen big --size-mb N [--seed N] [--out DIR]
+    hipop-samplegen survivors [--seed N] [--witness] [--out DIR]
+    hipop-samplegen satellite-abstract --corpus DIR [--out DIR]
     hipop-samplegen --help
 
 COMMANDS:
@@ -26,17 +30,31 @@ COMMANDS:
     big             The same domain on a larger zone, for throughput benchmarks: the
                     problem is about N MiB (thousands of waypoints, adjacency and
                     distance facts); the domain grows with the number of patrols.
+    survivors       The Survivors benchmark of the HiPOP paper (section 4.4.1): one domain
+                    and 72 problems, p-tT-rR-zZ-sS.pddl for 2 or 3 teams of 2 robots, 2 to
+                    4 rows of 2 zones of Z = 4, 9 or 16 locations, S = 2 to 5 survivors and
+                    2 hospitals; patrols (one per team and zone) are abstract actions.
+    satellite-abstract
+                    The IPC 2002 temporal Satellite domain of the corpus folder DIR with
+                    abstract actions (calibrate_instrument, get_image), and a copy of each
+                    of its problems with an (:allowed-actions ...) section added.
 
 OPTIONS:
     --seed N        Seed of the pseudo-random generator (default 42). The same seed
                     always gives the same bytes.
-    --out DIR       Directory receiving domain.pddl and problem.pddl (default: the
-                    current directory); created if missing.
+    --out DIR       Directory receiving the files (default: the current directory);
+                    created if missing.
     --size-mb N     Target size of the big problem in MiB (a decimal number, > 0).
+    --witness       survivors: also write, per problem, a plan that solves it, in VAL's
+                    format (STEM.plan) and in hipop's timed hierarchical format
+                    (STEM.hier.plan).
+    --corpus DIR    satellite-abstract: the corpus folder (its domain.pddl and
+                    instances/*.pddl), e.g. .../ipc2002-temporal/satellite-time-simple-automatic
     -h, --help      Print this help.
 
-EXAMPLE:
+EXAMPLES:
     cargo run -p hipop-samplegen -- surveillance --out samples/surveillance
+    cargo run -p hipop-samplegen -- survivors --witness --out /tmp/survivors
 ";
 
 #[derive(Debug, Clone, PartialEq)]
@@ -44,6 +62,8 @@ enum Command {
     Help,
     Surveillance { seed: u64, out: PathBuf },
     Big { size_mb: f64, seed: u64, out: PathBuf },
+    Survivors { seed: u64, witness: bool, out: PathBuf },
+    SatelliteAbstract { corpus: PathBuf, out: PathBuf },
 }
 
 fn parse_args(args: &[String]) -> Result<Command, String> {
@@ -56,6 +76,8 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
     let mut seed = DEFAULT_SEED;
     let mut out = PathBuf::from(".");
     let mut size_mb = None;
+    let mut witness = false;
+    let mut corpus = None;
     let mut rest = args[1..].iter();
     while let Some(flag) = rest.next() {
         let mut value = |name: &str| rest.next().cloned().ok_or_else(|| format!("{name} needs a value"));
@@ -75,6 +97,8 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
                 }
                 size_mb = Some(n);
             }
+            "--witness" if cmd == "survivors" => witness = true,
+            "--corpus" if cmd == "satellite-abstract" => corpus = Some(PathBuf::from(value("--corpus")?)),
             other => return Err(format!("unexpected argument `{other}`")),
         }
     }
@@ -84,16 +108,34 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
             let size_mb = size_mb.ok_or("big needs --size-mb N")?;
             Ok(Command::Big { size_mb, seed, out })
         }
+        "survivors" => Ok(Command::Survivors { seed, witness, out }),
+        "satellite-abstract" => {
+            let corpus = corpus.ok_or("satellite-abstract needs --corpus DIR")?;
+            Ok(Command::SatelliteAbstract { corpus, out })
+        }
         other => Err(format!("unknown command `{other}`")),
     }
 }
 
 fn write_files(out: &PathBuf, files: &(String, String)) -> Result<(), String> {
+    let files = [("domain.pddl".to_string(), files.0.clone()), ("problem.pddl".to_string(), files.1.clone())];
+    write_all(out, &files, true)
+}
+
+/// Writes `(file name, text)` pairs into `out`; lists each file, or only counts them.
+fn write_all(out: &PathBuf, files: &[(String, String)], list: bool) -> Result<(), String> {
     std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-    for (name, text) in [("domain.pddl", &files.0), ("problem.pddl", &files.1)] {
+    let mut bytes = 0;
+    for (name, text) in files {
         let path = out.join(name);
         std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        eprintln!("wrote {} ({} bytes)", path.display(), text.len());
+        bytes += text.len();
+        if list {
+            eprintln!("wrote {} ({} bytes)", path.display(), text.len());
+        }
+    }
+    if !list {
+        eprintln!("wrote {} files ({bytes} bytes) in {}", files.len(), out.display());
     }
     Ok(())
 }
@@ -107,6 +149,10 @@ fn main() -> ExitCode {
         }
         Ok(Command::Surveillance { seed, out }) => write_files(&out, &surveillance(seed)),
         Ok(Command::Big { size_mb, seed, out }) => write_files(&out, &big(size_mb, seed)),
+        Ok(Command::Survivors { seed, witness, out }) => write_all(&out, &survivors(seed, witness), false),
+        Ok(Command::SatelliteAbstract { corpus, out }) => {
+            satellite::satellite_abstract(&corpus).and_then(|files| write_all(&out, &files, false))
+        }
         Err(e) => Err(format!("{e}\n\nRun `hipop-samplegen --help` for usage.")),
     };
     match result {
@@ -134,6 +180,16 @@ mod tests {
             parse_args(&args("big --size-mb 2.5 --seed 9")),
             Ok(Command::Big { size_mb: 2.5, seed: 9, out: PathBuf::from(".") })
         );
+        assert_eq!(
+            parse_args(&args("survivors --witness --out d")),
+            Ok(Command::Survivors { seed: DEFAULT_SEED, witness: true, out: PathBuf::from("d") })
+        );
+        assert_eq!(
+            parse_args(&args("satellite-abstract --corpus c --out d")),
+            Ok(Command::SatelliteAbstract { corpus: PathBuf::from("c"), out: PathBuf::from("d") })
+        );
+        assert!(parse_args(&args("satellite-abstract --out d")).is_err());
+        assert!(parse_args(&args("surveillance --witness")).is_err());
         assert!(parse_args(&args("big")).is_err());
         assert!(parse_args(&args("surveillance --size-mb 3")).is_err());
         assert!(parse_args(&args("surveillance --seed -1")).is_err());

@@ -1,0 +1,259 @@
+//! The generated Survivors and Satellite files, checked with hipop's own
+//! analyzer: every Survivors problem is free of errors and warnings, and its
+//! witness plans (VAL's format and the timed hierarchical format) are valid,
+//! which proves that it can be solved with its allowed actions; the
+//! Satellite variant is free of errors and warnings on the corpus problems.
+
+use std::path::Path;
+
+use hipop_analyzer::validate::Options;
+use hipop_analyzer::{AnalysisHost, Diagnostic, Severity};
+use hipop_samplegen::survivors::Params;
+use hipop_samplegen::{DEFAULT_SEED, satellite, survivors, survivors_problem};
+
+/// The errors and warnings among `diags`, printed.
+fn problems(host: &AnalysisHost, diags: &[Diagnostic]) -> Vec<String> {
+    let analysis = host.analysis();
+    diags
+        .iter()
+        .filter(|d| d.severity != Severity::Info)
+        .map(|d| {
+            let path = analysis.file_path(d.file).unwrap();
+            format!("{path}: {} {}", d.code.id, d.message)
+        })
+        .collect()
+}
+
+#[test]
+fn every_survivors_problem_is_clean_and_its_witness_plans_are_valid() {
+    let domain = survivors::domain::domain();
+    let options = Options::default();
+    let mut failures = Vec::new();
+    let grid = Params::grid();
+    assert_eq!(grid.len(), 72);
+    for params in grid {
+        let files = survivors_problem(params, DEFAULT_SEED, true);
+        let mut host = AnalysisHost::new();
+        let d = host.set_file_text("/survivors/domain.pddl", domain.clone());
+        let [(pname, ptext), (vname, vtext), (hname, htext)] = &files[..] else { panic!("three files") };
+        let p = host.set_file_text(&format!("/survivors/{pname}"), ptext.clone());
+        let v = host.set_file_text(&format!("/survivors/{vname}"), vtext.clone());
+        let h = host.set_file_text(&format!("/survivors/{hname}"), htext.clone());
+        let analysis = host.analysis();
+        let mut diags = analysis.diagnostics(p).unwrap();
+        diags.extend(analysis.diagnostics(d).unwrap());
+        failures.extend(problems(&host, &diags));
+        for (plan, name) in [(v, vname), (h, hname)] {
+            let validation = analysis.validate_plan(plan, None, p, &options).unwrap().expect("a problem");
+            if !(validation.valid && validation.checked) {
+                failures.push(format!("{name}: invalid"));
+            }
+            failures.extend(problems(&host, &validation.diagnostics));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The test above would notice a broken plan or a lint: the same checks on
+/// damaged copies fail.
+#[test]
+fn the_checks_notice_broken_witnesses_and_lints() {
+    let params = Params { teams: 2, rows: 2, side: 3, survivors: 2 };
+    let files = survivors_problem(params, DEFAULT_SEED, true);
+    let [(_, ptext), (_, vtext), (_, htext)] = &files[..] else { panic!("three files") };
+    let mut host = AnalysisHost::new();
+    host.set_file_text("/s/domain.pddl", survivors::domain::domain());
+    // explore allowed on its own: the planner could build a patrol's plan twice (W0312).
+    let lax = ptext.replace("(:allowed-actions move", "(:allowed-actions explore move");
+    let p = host.set_file_text("/s/p.pddl", lax);
+    let diags = host.analysis().diagnostics(p).unwrap();
+    assert!(diags.iter().any(|d| d.code.id == "W0312"), "{:#?}", problems(&host, &diags));
+    let p = host.set_file_text("/s/p.pddl", ptext.clone());
+    // The VAL plan without its last step (a rescue): a goal is not reached.
+    let cut = &vtext[..vtext.trim_end().rfind('\n').unwrap()];
+    let v = host.set_file_text("/s/p.plan", cut.to_string());
+    // A patrol refined by the other method with the same subtasks.
+    let other = if htext.contains("-by-rows ") {
+        ("-by-rows ", "-by-columns ")
+    } else {
+        ("-by-columns ", "-by-rows ")
+    };
+    let h = host.set_file_text("/s/p.hier.plan", htext.replacen(other.0, other.1, 1));
+    let analysis = host.analysis();
+    for plan in [v, h] {
+        let validation = analysis.validate_plan(plan, None, p, &Options::default()).unwrap().unwrap();
+        assert!(!validation.valid);
+    }
+}
+
+#[test]
+fn survivors_files_are_deterministic_and_named_by_their_parameters() {
+    let a = survivors(DEFAULT_SEED, true);
+    assert_eq!(a, survivors(DEFAULT_SEED, true));
+    assert_eq!(a.len(), 1 + 72 * 3);
+    assert_ne!(a[1].1, survivors(7, false)[1].1, "the seed places the survivors");
+    let names: std::collections::BTreeSet<&str> = a.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names.len(), a.len());
+    for name in ["domain.pddl", "p-t2-r2-z4-s2.pddl", "p-t3-r4-z16-s5.pddl", "p-t2-r3-z9-s4.hier.plan"] {
+        assert!(names.contains(name), "{name}");
+    }
+}
+
+#[test]
+fn survivors_samples_are_up_to_date() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../survivors");
+    let files = survivors(DEFAULT_SEED, false);
+    let mut compared = 0;
+    for entry in std::fs::read_dir(&dir).expect("samples/survivors") {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if !name.ends_with(".pddl") {
+            continue;
+        }
+        let (_, text) =
+            files.iter().find(|(n, _)| *n == name).unwrap_or_else(|| panic!("{name} is not generated"));
+        let committed = std::fs::read_to_string(&path).unwrap();
+        assert!(committed == *text, "samples/survivors/{name} is stale: regenerate it (see its README)");
+        compared += 1;
+    }
+    assert!(compared >= 4, "the domain and 3 problems are committed");
+}
+
+const CORPUS: &str = "../../../shared/corpora/ipc2002-temporal";
+
+/// The generated Satellite files of a corpus folder, or `None` when the
+/// corpus is not on this machine.
+fn satellite_files(folder: &str) -> Option<Vec<(String, String)>> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join(CORPUS).join(folder);
+    if !dir.is_dir() {
+        eprintln!("{} not found: skipping", dir.display());
+        return None;
+    }
+    Some(satellite::satellite_abstract(&dir).unwrap())
+}
+
+#[test]
+fn satellite_abstract_is_clean_on_the_corpus() {
+    let Some(files) = satellite_files("satellite-time-simple-automatic") else { return };
+    assert_eq!(files.len(), 21);
+    let mut host = AnalysisHost::new();
+    let ids: Vec<_> = files
+        .iter()
+        .map(|(name, text)| host.set_file_text(&format!("/satellite/{name}"), text.clone()))
+        .collect();
+    let analysis = host.analysis();
+    let mut diags = Vec::new();
+    for &f in ids.iter().skip(1) {
+        diags.extend(analysis.diagnostics(f).unwrap());
+    }
+    diags.extend(analysis.diagnostics(ids[0]).unwrap());
+    let failures = problems(&host, &diags);
+    assert!(failures.is_empty(), "{failures:#?}");
+    for (name, text) in &files[1..] {
+        assert!(text.contains(&format!("(:allowed-actions {})", satellite::ALLOWED)), "{name}");
+    }
+}
+
+/// A timed hierarchical plan of instance 1, written by hand, that uses both
+/// abstract actions and three of their methods: the abstract actions'
+/// conditions, effects and durations agree with their methods.
+const SATELLITE_PLAN_1: &str = "\
+==>
+0 switch_on instrument0 satellite0
+1 turn_to satellite0 GroundStation2 Phenomenon6
+2 calibrate satellite0 instrument0 GroundStation2
+3 take_image satellite0 GroundStation2 instrument0 thermograph0
+4 turn_to satellite0 Phenomenon4 GroundStation2
+5 take_image satellite0 Phenomenon4 instrument0 thermograph0
+6 turn_to satellite0 Star5 Phenomenon4
+7 take_image satellite0 Star5 instrument0 thermograph0
+8 turn_to satellite0 Phenomenon6 Star5
+9 take_image satellite0 Phenomenon6 instrument0 thermograph0
+root 0 10 11 12 13 14
+10 calibrate_instrument satellite0 instrument0 GroundStation2 Phenomenon6 -> calibrate_instrument_turning 1 2
+11 get_image satellite0 GroundStation2 instrument0 thermograph0 GroundStation2 -> get_image_in_place 3
+12 get_image satellite0 Phenomenon4 instrument0 thermograph0 GroundStation2 -> get_image_turning 4 5
+13 get_image satellite0 Star5 instrument0 thermograph0 Phenomenon4 -> get_image_turning 6 7
+14 get_image satellite0 Phenomenon6 instrument0 thermograph0 Star5 -> get_image_turning 8 9
+<==
+;@ 0 0.000 [2.000]
+;@ 1 2.010 [5.000]
+;@ 2 7.020 [5.000]
+;@ 3 13.020 [7.000]
+;@ 4 26.030 [5.000]
+;@ 5 31.040 [7.000]
+;@ 6 39.040 [5.000]
+;@ 7 44.050 [7.000]
+;@ 8 52.050 [5.000]
+;@ 9 57.060 [7.000]
+;@ 10 2.010 [11.000]
+;@ 11 13.020 [13.000]
+;@ 12 26.030 [13.000]
+;@ 13 39.040 [13.000]
+;@ 14 52.050 [13.000]
+";
+
+#[test]
+fn satellite_abstract_actions_agree_with_their_methods() {
+    let Some(files) = satellite_files("satellite-time-simple-automatic") else { return };
+    let mut host = AnalysisHost::new();
+    host.set_file_text("/satellite/domain.pddl", files[0].1.clone());
+    let (name, text) = &files[1];
+    assert_eq!(name, "instance-1.pddl");
+    let p = host.set_file_text("/satellite/instance-1.pddl", text.clone());
+    let good = host.set_file_text("/satellite/good.hier.plan", SATELLITE_PLAN_1);
+    // get_image lasts 13: a step of 12 is rejected (E0447).
+    let short = host.set_file_text(
+        "/satellite/short.hier.plan",
+        SATELLITE_PLAN_1.replace(";@ 14 52.050 [13.000]", ";@ 14 52.050 [12.000]"),
+    );
+    let analysis = host.analysis();
+    let options = Options::default();
+    let v = analysis.validate_plan(good, None, p, &options).unwrap().unwrap();
+    assert!(v.valid && v.checked, "{:#?}", problems(&host, &v.diagnostics));
+    assert!(problems(&host, &v.diagnostics).is_empty(), "{:#?}", problems(&host, &v.diagnostics));
+    let v = analysis.validate_plan(short, None, p, &options).unwrap().unwrap();
+    assert!(!v.valid && v.diagnostics.iter().any(|d| d.code.id == "E0447"));
+}
+
+#[test]
+fn satellite_abstract_sample_is_up_to_date() {
+    let Some(files) = satellite_files("satellite-time-simple-automatic") else { return };
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../satellite-abstract");
+    for entry in std::fs::read_dir(&dir).expect("samples/satellite-abstract") {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if !name.ends_with(".pddl") {
+            continue;
+        }
+        let (_, text) =
+            files.iter().find(|(n, _)| *n == name).unwrap_or_else(|| panic!("{name} is not generated"));
+        let committed = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            committed == *text,
+            "samples/satellite-abstract/{name} is stale: regenerate it (see its README)"
+        );
+    }
+}
+
+#[test]
+fn satellite_abstract_reads_the_timed_corpus_too() {
+    let Some(files) = satellite_files("satellite-time-automatic") else { return };
+    assert!(satellite::is_timed(&files[0].1));
+    assert!(files[0].1.contains("(+ (slew_time ?d_prev ?d) (calibration_time ?i ?d) 1)"));
+    let mut host = AnalysisHost::new();
+    let ids: Vec<_> = files
+        .iter()
+        .map(|(name, text)| host.set_file_text(&format!("/satellite/{name}"), text.clone()))
+        .collect();
+    let analysis = host.analysis();
+    // The corpus's own slew times break the triangle inequality (W0310, 419
+    // warnings on the unmodified corpus too); nothing else may be reported.
+    let mut failures = Vec::new();
+    for &f in &ids {
+        let diags: Vec<Diagnostic> =
+            analysis.diagnostics(f).unwrap().into_iter().filter(|d| d.code.id != "W0310").collect();
+        failures.extend(problems(&host, &diags));
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
