@@ -551,6 +551,10 @@ fn validate_gantt_and_svg() {
     assert_eq!(status(&o), 0, "{}", stderr(&o));
     assert_eq!(stderr(&o), format!("{plan}: valid: makespan 32.000, value 32.000\n"));
     insta::assert_snapshot!(stdout(&o));
+    // docs/plan-formats.md shows this very chart.
+    let doc = std::fs::read_to_string(workspace_root().join("docs/plan-formats.md")).unwrap();
+    let chart = stdout(&o).trim_start().strip_prefix(&format!("{plan}\n")).unwrap().to_string();
+    assert!(doc.contains(&chart), "docs/plan-formats.md, Timelines: update the example to\n{chart}");
     let svg = std::fs::read_to_string(&picture).expect("the picture is written");
     assert!(svg.starts_with("<?xml") && svg.trim_end().ends_with("</svg>"), "{svg}");
     assert!(svg.contains("(communicate r1 r2 hill lake)"), "{svg}");
