@@ -6,6 +6,7 @@ mod diff;
 mod inputs;
 mod plan;
 mod render;
+mod timeline;
 mod validate;
 
 use std::process::ExitCode;
@@ -57,12 +58,15 @@ enum Command {
     /// Plans may be in any format hipop reads (VAL, IPC 2020 hierarchical,
     /// timed hierarchical, JSON; docs/plan-formats.md). Each failure is
     /// reported at the step of the plan with what failed, why, and a hint
-    /// (docs/validation-temporal.md).
+    /// (docs/validation-temporal.md). `--gantt` and `--svg FILE` draw the
+    /// plan per agent, as a chart in the terminal or a picture (docs/plan-formats.md,
+    /// "Timelines").
     ///
     /// Exit status: 0 when every plan is valid (with `--expect invalid`: when
     /// every plan is invalid), 1 when some plan is not, 2 on a usage or I/O
     /// error, a plan that cannot be read, or a domain or problem with errors.
-    /// With several plans, the worst status.
+    /// With several plans, the worst status; 2 too when the SVG picture
+    /// cannot be written.
     Validate(ValidateArgs),
     /// Plan: run the HiPOP planner (hybrid partial-order and hierarchical
     /// planning, section 4 of the HiPOP paper) on a problem and write the plan.
@@ -191,6 +195,8 @@ struct ValidateArgs {
     /// When to use colours in human output.
     #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
     color: ColorWhen,
+    #[command(flatten)]
+    timeline: timeline::TimelineArgs,
 }
 
 /// A plan format, or its detection from the content.
@@ -339,6 +345,7 @@ fn main() -> ExitCode {
                     ignore_listed_order: args.ignore_listed_order,
                 },
                 expect: args.expect,
+                timeline: args.timeline,
             };
             ExitCode::from(validate::run(&args.domain, &args.problem, &args.plans, &options))
         }

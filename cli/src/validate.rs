@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use hipop_analyzer::plan::PlanFormat;
+use hipop_analyzer::plan::{NameMatching, PlanFormat};
 use hipop_analyzer::validate::{Options as ValidateOptions, Validation};
 use hipop_analyzer::{AnalysisHost, Diagnostic, Severity, SourceFile};
 use serde_json::{Value, json};
@@ -27,6 +27,8 @@ pub struct Options {
     pub plan_format: Option<PlanFormat>,
     pub validate: ValidateOptions,
     pub expect: Expect,
+    /// `--gantt`, `--svg FILE`.
+    pub timeline: crate::timeline::TimelineArgs,
 }
 
 /// The outcome of one plan.
@@ -49,6 +51,7 @@ impl Verdict {
 
 struct PlanResult {
     path: String,
+    file: Option<SourceFile>,
     verdict: Verdict,
     validation: Option<Validation>,
     io_error: Option<String>,
@@ -57,6 +60,10 @@ struct PlanResult {
 /// Validates every plan; returns the worst exit status: 0 every plan has the
 /// expected verdict, 1 some has not, 2 a usage, I/O or parse error.
 pub fn run(domain: &Path, problem: &Path, plans: &[PathBuf], options: &Options) -> u8 {
+    if let Err(m) = options.timeline.check(plans.len(), options.format == Format::Human) {
+        eprintln!("error: {m}");
+        return 2;
+    }
     let mut host = AnalysisHost::new();
     host.set_plan_options(options.validate);
     let mut io_errors: Vec<(String, String)> = Vec::new();
@@ -110,6 +117,7 @@ pub fn run(domain: &Path, problem: &Path, plans: &[PathBuf], options: &Options) 
             let io_error = io_errors.iter().find(|(p, _)| *p == shown).map(|(_, m)| m.clone());
             results.push(PlanResult {
                 path: shown,
+                file: None,
                 verdict: Verdict::Unreadable,
                 validation: None,
                 io_error,
@@ -132,7 +140,13 @@ pub fn run(domain: &Path, problem: &Path, plans: &[PathBuf], options: &Options) 
             Verdict::Invalid
         };
         diagnostics.extend(validation.diagnostics.iter().cloned());
-        results.push(PlanResult { path: shown, verdict, validation: Some(validation), io_error: None });
+        results.push(PlanResult {
+            path: shown,
+            file: Some(file),
+            verdict,
+            validation: Some(validation),
+            io_error: None,
+        });
     }
 
     let mut files: Vec<SourceFile> = model_files.to_vec();
@@ -165,7 +179,27 @@ pub fn run(domain: &Path, problem: &Path, plans: &[PathBuf], options: &Options) 
         Format::Sarif => rendered.sarif(),
         Format::Github => rendered.github(),
     }
-    results.iter().map(|r| status(&r.verdict, options.expect)).max().unwrap_or(0)
+    let mut worst = results.iter().map(|r| status(&r.verdict, options.expect)).max().unwrap_or(0);
+    if options.timeline.wanted() {
+        let matching =
+            if options.validate.lenient { NameMatching::Lenient } else { NameMatching::CaseInsensitive };
+        for r in &results {
+            // Valid or not, a plan that was read is drawn: the chart shows what it says.
+            let (Some(file), Some(true)) = (r.file, r.validation.as_ref().map(|v| v.checked)) else {
+                eprintln!("{}: not drawn: the plan cannot be read", r.path);
+                continue;
+            };
+            let drawn = match crate::timeline::layout(&analysis, file, options.plan_format, fd, matching) {
+                Ok(timeline) => crate::timeline::emit(&options.timeline, &timeline, &r.path),
+                Err(e) => return interrupted(e),
+            };
+            if let Err(m) = drawn {
+                eprintln!("error: {m}");
+                worst = 2;
+            }
+        }
+    }
+    worst
 }
 
 /// 0 the expected verdict, 1 the other, 2 not validated.

@@ -535,3 +535,66 @@ fn validate_fixtures(folder: &str, at_least: usize) {
         }
     }
 }
+
+const TIMELINE: [&str; 2] = ["tests/plans/timeline/domain.hddl", "tests/plans/timeline/problem.hddl"];
+
+/// `--gantt` draws each plan after its verdict (on standard output, the
+/// verdict on standard error), `--svg FILE` writes the picture.
+#[test]
+fn validate_gantt_and_svg() {
+    let tmp = TempDir::new("timeline");
+    let picture = format!("{}/plan.svg", tmp.path());
+    let [d, p] = TIMELINE;
+    let plan = "tests/plans/timeline/hierarchical.plan";
+    let o = hipop(&["validate", d, p, plan, "--gantt", "--gantt-width", "80", "--svg", &picture]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 0, "{}", stderr(&o));
+    assert_eq!(stderr(&o), format!("{plan}: valid: makespan 32.000, value 32.000\n"));
+    insta::assert_snapshot!(stdout(&o));
+    // docs/plan-formats.md shows this very chart.
+    let doc = std::fs::read_to_string(workspace_root().join("docs/plan-formats.md")).unwrap();
+    let chart = stdout(&o).trim_start().strip_prefix(&format!("{plan}\n")).unwrap().to_string();
+    assert!(doc.contains(&chart), "docs/plan-formats.md, Timelines: update the example to\n{chart}");
+    let svg = std::fs::read_to_string(&picture).expect("the picture is written");
+    assert!(svg.starts_with("<?xml") && svg.trim_end().ends_with("</svg>"), "{svg}");
+    assert!(svg.contains("(communicate r1 r2 hill lake)"), "{svg}");
+
+    // ASCII, several plans (an invalid one is drawn too), each under its path.
+    let seq = "tests/plans/timeline/sequential.plan";
+    let o = hipop(&["validate", d, p, seq, plan, "--gantt=ascii", "--gantt-width", "70", "--color", "never"]);
+    assert_eq!(status(&o), 1, "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.is_ascii(), "{out}");
+    assert!(out.starts_with(&format!("\n{seq}\nstep")), "{out}");
+    assert!(out.contains(&format!("\n{plan}\ntime")), "{out}");
+}
+
+#[test]
+fn validate_timeline_flags_refuse_what_they_cannot_do() {
+    let [d, p] = TIMELINE;
+    let plan = "tests/plans/timeline/temporal.plan";
+    let o = hipop(&["validate", d, p, plan, "--format", "json", "--gantt"]);
+    assert_eq!(status(&o), 2);
+    assert!(stderr(&o).contains("`--gantt` draws for people"), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "");
+    let o = hipop(&["validate", d, p, plan, plan, "--svg", "never-written.svg"]);
+    assert_eq!(status(&o), 2);
+    assert!(stderr(&o).contains("`--svg FILE` draws one plan, and 2 are given"), "{}", stderr(&o));
+    assert!(!workspace_root().join("never-written.svg").exists());
+    let o = hipop(&["validate", d, p, plan, "--svg", "no/such/folder/plan.svg"]);
+    assert_eq!(status(&o), 2, "a picture that cannot be written");
+    assert!(stderr(&o).contains("cannot write the SVG picture"), "{}", stderr(&o));
+    // A plan that cannot be read is not drawn.
+    let o =
+        hipop(&["validate", d, p, "tests/plans/E0401-malformed-step.plan", "--gantt", "--color", "never"]);
+    assert_eq!(status(&o), 2);
+    assert!(
+        stderr(&o).contains("E0401-malformed-step.plan: not drawn: the plan cannot be read"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(stdout(&o), "");
+    // The flags are explained.
+    let help = stdout(&hipop(&["validate", "--help"]));
+    assert!(help.contains("--gantt[=<STYLE>]") && help.contains("--svg <FILE>"), "{help}");
+}

@@ -44,6 +44,11 @@ impl AgentTable {
         }
     }
 
+    /// How the table compares names (actions, tasks, and agents between steps).
+    pub fn matching(&self) -> NameMatching {
+        self.matching
+    }
+
     /// Whether no action or task declares agents.
     pub fn is_empty(&self) -> bool {
         self.positions.is_empty()

@@ -20,6 +20,7 @@ pub mod diff;
 pub mod hierarchical;
 pub mod json;
 mod lines;
+pub mod timeline;
 pub mod val;
 
 #[cfg(test)]
