@@ -123,6 +123,10 @@ struct PlanArgs {
     /// plans per second, ground operators, method instances, open list peak.
     #[arg(long)]
     stats: bool,
+    /// The plan's timeline, one lane per agent (`--gantt` after the plan on
+    /// standard output: use `-o FILE` to keep them apart; `--svg FILE`).
+    #[command(flatten)]
+    timeline: timeline::TimelineArgs,
     /// When to use colours in diagnostics.
     #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
     color: ColorWhen,
@@ -364,6 +368,7 @@ fn main() -> ExitCode {
                 quiet: args.quiet,
                 progress: args.progress,
                 stats: args.stats,
+                timeline: args.timeline,
             };
             ExitCode::from(plan::run(&args.domain, &args.problem, &options))
         }

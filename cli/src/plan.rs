@@ -35,10 +35,15 @@ pub struct Options {
     pub quiet: bool,
     pub progress: bool,
     pub stats: bool,
+    pub timeline: crate::timeline::TimelineArgs,
 }
 
 /// Exit status: 0 plan found, 1 no plan, 3 limit reached, 2 usage or input error.
 pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
+    if let Err(m) = options.timeline.check(1, options.format != PlanOutput::Json) {
+        eprintln!("error: {m}");
+        return 2;
+    }
     let mut host = AnalysisHost::new();
     let load = |host: &mut AnalysisHost, path: &Path, what: &str| match crate::diff::read(path, what) {
         Ok(text) => Ok(host.set_file_text(&path.display().to_string(), text)),
@@ -153,6 +158,28 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
                     plan.primitive().count(),
                     plan.makespan
                 );
+            }
+            if options.timeline.wanted() {
+                // Drawn from the plan as written, read back like any plan file.
+                let text = if plan.is_hierarchical() { plan.to_hierarchical("") } else { plan.to_val("") };
+                let title = format!("plan of {} ({})", plan.problem, options.config.name());
+                drop(analysis);
+                let file = host.set_file_text("<hipop plan>.plan", text);
+                let analysis = host.analysis();
+                let drawn = match crate::timeline::layout(
+                    &analysis,
+                    file,
+                    None,
+                    fd,
+                    hipop_analyzer::plan::NameMatching::CaseInsensitive,
+                ) {
+                    Ok(timeline) => crate::timeline::emit(&options.timeline, &timeline, &title),
+                    Err(_) => return interrupted(),
+                };
+                if let Err(m) = drawn {
+                    eprintln!("error: {m}");
+                    return 2;
+                }
             }
             0
         }

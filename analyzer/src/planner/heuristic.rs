@@ -38,14 +38,17 @@ impl Heuristic {
             cost[t.lit as usize] = cost[t.lit as usize].min(t.time);
             effort[t.lit as usize] = 0.0;
         }
-        // h_add: iterate to the fixpoint (Bellman–Ford style).
+        // h_add: iterate to the fixpoint (Bellman–Ford style), over what the
+        // planner may insert (𝒜) when it may insert anything, since that is
+        // how open links get closed; over every operator in pure HTN.
+        let restrict = task.ops.iter().any(|o| o.allowed);
         let mut changed = true;
         let mut rounds = 0;
         while changed && rounds < 256 {
             changed = false;
             rounds += 1;
             for op in task.ops.iter() {
-                if op.dead {
+                if op.dead || (restrict && !op.allowed) || (op.is_abstract && op.methods.is_empty()) {
                     continue;
                 }
                 let (mut pc, mut pe) = (0.0, 0.0);

@@ -163,7 +163,11 @@ impl<'a, 'db> Search<'a, 'db> {
         }
         for &a in p.abstracts.iter() {
             if let Kind::Op(op) = p.steps[a as usize].kind {
-                h += self.h.refine_cost[op as usize].min(1e6);
+                // An abstract action with its own duration already counts in
+                // the makespan: its subtasks fit in it.
+                if self.task.ops[op as usize].duration.is_none() {
+                    h += self.h.refine_cost[op as usize].min(1e6);
+                }
                 effort += self.h.refine_effort[op as usize].min(1e6);
             }
         }
@@ -256,12 +260,45 @@ impl<'a, 'db> Search<'a, 'db> {
 
     /// Picks the flaw to solve, dropping threats that orderings solved since.
     fn select(&self, p: &mut Plan) -> Option<Flaw> {
-        // Threats, last found first.
-        while let Some(t) = p.threats.last().copied() {
-            if p.still_threat(self.task, &t) {
-                return Some(Flaw::Threat(p.threats.len() - 1));
+        // Threats: those with one consistent resolver are solved in place
+        // (no choice to make), one with none kills the plan, and among the
+        // others the last found is chosen.
+        let mut i = p.threats.len();
+        let mut choice = None;
+        while i > 0 {
+            i -= 1;
+            let t = p.threats[i];
+            if !p.still_threat(self.task, &t) {
+                std::rc::Rc::make_mut(&mut p.threats).remove(i);
+                choice = choice.map(|c: usize| if c > i { c - 1 } else { c });
+                continue;
             }
-            std::rc::Rc::make_mut(&mut p.threats).pop();
+            let [(a1, b1), (a2, b2)] = self.threat_orders(p, &t);
+            let mut first = p.stn.clone();
+            let ok1 = first.add(a1, b1, EPS);
+            let mut second = p.stn.clone();
+            let ok2 = second.add(a2, b2, EPS);
+            match (ok1, ok2) {
+                (false, false) => return Some(Flaw::Threat(i)),
+                (true, false) | (false, true) => {
+                    p.stn = if ok1 { first } else { second };
+                    std::rc::Rc::make_mut(&mut p.threats).remove(i);
+                    choice = choice.map(|c: usize| if c > i { c - 1 } else { c });
+                }
+                (true, true) => {
+                    if choice.is_none() {
+                        choice = Some(i);
+                    }
+                }
+            }
+        }
+        if let Some(c) = choice {
+            // Orderings forced since may have solved it.
+            if p.still_threat(self.task, &p.threats[c]) {
+                return Some(Flaw::Threat(c));
+            }
+            std::rc::Rc::make_mut(&mut p.threats).remove(c);
+            return self.select(p);
         }
         // Open links that nothing can support yet while an unrefined
         // abstract step that may come before them could (its subtasks are
@@ -326,6 +363,16 @@ impl<'a, 'db> Search<'a, 'db> {
         p.abstracts.iter().any(|&a| {
             let st = p.steps[a as usize];
             let Kind::Op(op) = st.kind else { return false };
+            // A HiPOP abstract action is used through what it declares, like
+            // an elementary action (section 4.1): a predicate its effects
+            // name is not waited for. What it does not declare (a robot's
+            // position along a round trip, everything for an HDDL task) only
+            // its methods tell.
+            let pred = self.task.g.atoms.pred(atom_of(o.lit));
+            if self.task.ops[op as usize].effs.iter().any(|e| self.task.g.atoms.pred(atom_of(e.lit)) == pred)
+            {
+                return false;
+            }
             a != o.step
                 && !p.descends(o.step, a)
                 && !p.stn.before(o.need, st.start)
@@ -417,20 +464,23 @@ impl<'a, 'db> Search<'a, 'db> {
         wa.iter().any(|x| rb.contains(x) || wb.contains(x)) || wb.iter().any(|x| ra.contains(x))
     }
 
+    /// The two ways to solve a threat: the threatening happening (or
+    /// abstract step) before the producer, or after the link's protection.
+    fn threat_orders(&self, p: &Plan, t: &Threat) -> [(Tp, Tp); 2] {
+        let link = p.links[t.link as usize];
+        let step = p.steps[t.step as usize];
+        match t.kind {
+            ThreatKind::Delete(tp) | ThreatKind::Position(tp) => [(tp, link.from_tp), (link.until, tp)],
+            ThreatKind::Conflict => [(step.end, link.from_tp), (link.until, step.start)],
+        }
+    }
+
     /// The children of a plan for its chosen flaw.
     fn resolvers(&self, p: &Plan, flaw: Flaw, out: &mut Vec<Plan>) {
         match flaw {
             Flaw::Threat(i) => {
                 let t: Threat = p.threats[i];
-                let link = p.links[t.link as usize];
-                let step = p.steps[t.step as usize];
-                let (before, after) = match t.kind {
-                    ThreatKind::Delete(tp) | ThreatKind::Position(tp) => {
-                        ((tp, link.from_tp), (link.until, tp))
-                    }
-                    ThreatKind::Conflict => ((step.end, link.from_tp), (link.until, step.start)),
-                };
-                for (a, b) in [before, after] {
+                for (a, b) in self.threat_orders(p, &t) {
                     let mut c = p.clone();
                     std::rc::Rc::make_mut(&mut c.threats).remove(i);
                     if c.stn.add(a, b, EPS) {

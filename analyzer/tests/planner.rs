@@ -1,0 +1,207 @@
+//! The HiPOP planner (`hipop_analyzer::planner`), checked by the validator:
+//!
+//! - every plan the planner returns here is validated by `validate` (an
+//!   independent implementation of VAL's and pandaPIparser's semantics) in
+//!   each form it is written in: VAL's, the timed IPC 2020 hierarchical one
+//!   (temporal and hierarchical checks), and JSON;
+//! - the plans of the small samples are snapshots (the search is
+//!   deterministic), so a change of plan is seen in review;
+//! - problems without a plan, or that the planner cannot plan, say why,
+//!   located (E0501–E0503, I0504–I0506).
+//!
+//! Tests that need the corpora skip, saying so, when they are absent.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use hipop_analyzer::planner::{Config, PlannerLimits, Status};
+use hipop_analyzer::{AnalysisHost, PlanningResult};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn corpora() -> Option<PathBuf> {
+    let dir = std::env::var_os("HIPOP_CORPORA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("../shared/corpora"));
+    dir.is_dir().then_some(dir)
+}
+
+fn read(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn limits(seconds: u64) -> PlannerLimits {
+    PlannerLimits { time: Some(Duration::from_secs(seconds)), ..Default::default() }
+}
+
+/// Plans a problem (domain and problem texts; they may be the same file).
+fn plan(
+    domain: &Path,
+    problem: &Path,
+    config: &Config,
+    limits: &PlannerLimits,
+) -> (AnalysisHost, PlanningResult) {
+    let mut host = AnalysisHost::new();
+    host.set_file_text(&domain.display().to_string(), read(domain));
+    let fp = host.set_file_text(&problem.display().to_string(), read(problem));
+    let result = host
+        .analysis()
+        .run_planner(fp, config, limits, &|| false, &mut |_| {})
+        .expect("not cancelled")
+        .expect("a problem");
+    (host, result)
+}
+
+/// Validates `text` (a plan in any format) for the problem; the error
+/// diagnostics, empty when valid.
+fn validate(host: &mut AnalysisHost, problem: &Path, name: &str, text: &str) -> Vec<String> {
+    let fp = host.file(&problem.display().to_string()).expect("problem loaded");
+    let file = host.set_file_text(name, text.to_string());
+    let v = host
+        .analysis()
+        .validate_plan(file, None, fp, &hipop_analyzer::validate::Options::default())
+        .expect("not cancelled")
+        .expect("a problem");
+    if v.checked && v.valid {
+        Vec::new()
+    } else {
+        let mut out: Vec<String> =
+            v.diagnostics.iter().map(|d| format!("{} {}", d.code.id, d.message)).collect();
+        out.push(format!("checked={} valid={}", v.checked, v.valid));
+        out
+    }
+}
+
+/// Every form of a solved plan validates.
+fn assert_valid(host: &mut AnalysisHost, problem: &Path, result: &PlanningResult) {
+    let plan = result.plan.as_ref().expect("a plan");
+    let forms = [
+        ("plan.val.plan", plan.to_val("test")),
+        ("plan.hier.plan", plan.to_hierarchical("test")),
+        ("plan.json.plan", plan.to_json()),
+    ];
+    for (name, text) in forms {
+        if !plan.is_hierarchical() && name == "plan.hier.plan" {
+            continue;
+        }
+        let errors = validate(host, problem, name, &text);
+        assert!(
+            errors.is_empty(),
+            "{}: {name} is invalid:\n{}\n{text}",
+            problem.display(),
+            errors.join("\n")
+        );
+    }
+}
+
+#[test]
+fn sample_plans_are_valid_and_stable() {
+    let cases = [
+        ("samples/transport-htn/domain.hddl", "samples/transport-htn/problem.hddl"),
+        ("samples/rover-mission/domain.hddl", "samples/rover-mission/problem.hddl"),
+    ];
+    for (d, p) in cases {
+        let (domain, problem) = (root().join(d), root().join(p));
+        let (mut host, result) = plan(&domain, &problem, &Config::default(), &limits(60));
+        assert_eq!(result.status, Status::Solved, "{p}: {:?}", result.diagnostics);
+        assert_valid(&mut host, &problem, &result);
+        let plan = result.plan.as_ref().expect("a plan");
+        let name = Path::new(d).parent().and_then(|n| n.file_name()).unwrap().to_string_lossy().to_string();
+        insta::assert_snapshot!(format!("{name}-hierarchical"), plan.to_hierarchical("hipop plan"));
+        insta::assert_snapshot!(format!("{name}-val"), plan.to_val("hipop plan"));
+    }
+}
+
+#[test]
+fn json_plans_carry_the_partial_order() {
+    let (domain, problem) =
+        (root().join("samples/rover-mission/domain.hddl"), root().join("samples/rover-mission/problem.hddl"));
+    let (_, result) = plan(&domain, &problem, &Config::default(), &limits(60));
+    let json: serde_json::Value =
+        serde_json::from_str(&result.plan.expect("a plan").to_json()).expect("JSON");
+    assert_eq!(json["format"], "hipop-plan");
+    assert_eq!(json["version"], 1);
+    let steps = json["steps"].as_array().expect("steps");
+    assert!(steps.iter().any(|s| s["method"].is_string() && !s["subtasks"].as_array().unwrap().is_empty()));
+    assert!(steps.iter().all(|s| s["bounds"]["start"][0].as_f64() <= s["bounds"]["start"][1].as_f64()));
+    let links = json["causal_links"].as_array().expect("causal links");
+    assert!(links.iter().any(|l| l["from"] == "init") && links.iter().any(|l| l["to"] == "goal"));
+    assert!(!json["temporal_links"].as_array().expect("temporal links").is_empty());
+    assert!(json["problem"]["hash"].as_str().unwrap().starts_with("fnv1a64:"));
+}
+
+#[test]
+fn failures_are_located() {
+    let dir = root().join("tests/planner");
+    let cases = [
+        ("unsupported-disjunction.pddl", Status::Refused, vec!["E0501"]),
+        ("no-plan.pddl", Status::NoPlan, vec!["E0502"]),
+        ("abstract-flaw.hddl", Status::NoPlan, vec!["E0502", "I0506"]),
+    ];
+    for (file, status, codes) in cases {
+        let path = dir.join(file);
+        let (_, result) = plan(&path, &path, &Config::default(), &limits(10));
+        assert_eq!(result.status, status, "{file}");
+        let got: Vec<&str> = result.diagnostics.iter().map(|d| d.code.id).collect();
+        for c in codes {
+            assert!(got.contains(&c), "{file}: expected {c} in {got:?}");
+        }
+        assert!(
+            result.diagnostics.iter().all(|d| !d.range.is_empty()),
+            "{file}: a diagnostic without a range"
+        );
+    }
+}
+
+#[test]
+fn limits_stop_the_search_and_cancellation_is_polled() {
+    let (domain, problem) =
+        (root().join("samples/rover-mission/domain.hddl"), root().join("samples/rover-mission/problem.hddl"));
+    let nodes = PlannerLimits { nodes: Some(3), ..limits(60) };
+    let (_, result) = plan(&domain, &problem, &Config::default(), &nodes);
+    assert_eq!(result.status, Status::Limit(hipop_analyzer::planner::LimitKind::Nodes));
+    assert!(result.diagnostics.iter().any(|d| d.code.id == "E0503"));
+    let mut host = AnalysisHost::new();
+    host.set_file_text(&domain.display().to_string(), read(&domain));
+    let fp = host.set_file_text(&problem.display().to_string(), read(&problem));
+    let cancelled = host
+        .analysis()
+        .run_planner(fp, &Config::default(), &limits(60), &|| true, &mut |_| {})
+        .expect("not cancelled by salsa")
+        .expect("a problem");
+    assert!(matches!(cancelled.status, Status::Limit(_) | Status::Solved));
+}
+
+#[test]
+fn configurations_parse_like_the_papers() {
+    for name in Config::MAIN {
+        let c = Config::parse(name).expect(name);
+        assert_eq!(Config::parse(&c.name()).expect("round trip"), c, "{name}");
+    }
+    assert!(Config::parse("AR-time-local-wobble").is_err());
+    assert!(Config::parse("bare").expect("bare").bare);
+}
+
+/// The IPC 2002 temporal Satellite problems the default configuration solves
+/// within a few seconds; each plan validates.
+#[test]
+fn satellite_corpus_plans_validate() {
+    let Some(corpora) = corpora() else {
+        eprintln!("skipped: ../shared/corpora is absent");
+        return;
+    };
+    let dir = corpora.join("ipc2002-temporal/satellite-time-simple-automatic");
+    let domain = dir.join("domain.pddl");
+    let mut solved = 0;
+    for i in [1, 2, 3, 4, 6, 7] {
+        let problem = dir.join(format!("instances/instance-{i}.pddl"));
+        let (mut host, result) = plan(&domain, &problem, &Config::default(), &limits(20));
+        if result.status == Status::Solved {
+            assert_valid(&mut host, &problem, &result);
+            solved += 1;
+        }
+    }
+    assert!(solved >= 5, "only {solved} of 6 Satellite problems solved");
+}
