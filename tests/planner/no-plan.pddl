@@ -1,6 +1,6 @@
 ; Two lamps share one switch that turns one lamp off when it turns the other
-; on: both can never be on together (E0502, with the open link of the best
-; partial plan, I0504, and its threat, I0505).
+; on: both can never be on together (E0502, with the threats of the best partial
+; plan, I0505).
 (define (domain toggles)
   (:requirements :strips)
   (:predicates (on ?l))

@@ -9,7 +9,7 @@
 //! subtasks, recursively (a fixpoint, since methods may recurse).
 
 use super::stn::EPS;
-use super::task::{Lit, Task, lit};
+use super::task::{End, Lit, Task, lit};
 
 pub struct Heuristic {
     /// h_add of each literal in time, and in effort (`INFINITY` when unreachable).
@@ -51,17 +51,33 @@ impl Heuristic {
                 if op.dead || (restrict && !op.allowed) || (op.is_abstract && op.methods.is_empty()) {
                     continue;
                 }
-                let (mut pc, mut pe) = (0.0, 0.0);
+                // What the start needs; then what the rest needs, but what
+                // the operator's own start provides (an `over all` or `at
+                // end` condition its start makes true).
+                let own = |l: Lit| op.effs.iter().any(|e| e.at == End::Start && e.lit == l);
+                let (mut sc, mut se, mut ec, mut ee) = (0.0, 0.0, 0.0, 0.0);
                 for c in &op.conds {
-                    pc += cost[c.lit as usize];
-                    pe += effort[c.lit as usize];
+                    let later = c.at == End::End || c.until == End::End;
+                    if !later || op.instant {
+                        sc += cost[c.lit as usize];
+                        se += effort[c.lit as usize];
+                    } else if !own(c.lit) {
+                        ec += cost[c.lit as usize];
+                        ee += effort[c.lit as usize];
+                    }
                 }
-                if !pc.is_finite() {
+                if !sc.is_finite() {
                     continue;
                 }
-                let oc = pc + op.duration.unwrap_or(0.0) + EPS;
-                let oe = pe + 1.0;
                 for e in &op.effs {
+                    let (oc, oe) = if e.at == End::Start && !op.instant {
+                        (sc + EPS, se + 1.0)
+                    } else {
+                        (sc + ec + op.duration.unwrap_or(0.0) + EPS, se + ee + 1.0)
+                    };
+                    if !oc.is_finite() {
+                        continue;
+                    }
                     let k = e.lit as usize;
                     if oc < cost[k] - 1e-9 {
                         cost[k] = oc;

@@ -72,6 +72,9 @@ pub struct Open {
     pub cond: u32,
     /// Where it comes from, for reports: a goal index, a method, an abstract effect.
     pub origin: OpenOrigin,
+    /// Only an `over all` condition: needed in the open interval after the
+    /// step's start, so the step's own start effect may support it.
+    pub after_start: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -336,6 +339,7 @@ impl Plan {
         for (ci, c) in op.conds.iter().enumerate() {
             let need = if c.at == End::Start { start } else { end };
             let until = if c.until == End::Start { start } else { end };
+            let over_all = c.at == End::Start && c.until == End::End && !op.instant;
             if let Some(o) = opens.iter_mut().find(|o| o.lit == c.lit) {
                 if need == start {
                     o.need = start;
@@ -343,6 +347,7 @@ impl Plan {
                 if until == end {
                     o.until = end;
                 }
+                o.after_start &= over_all;
                 continue;
             }
             if !h.reachable(c.lit) && !task.holds_initially(c.lit) {
@@ -355,6 +360,7 @@ impl Plan {
                 until,
                 cond: ci as u32,
                 origin: OpenOrigin::Cond(ci as u32),
+                after_start: over_all,
             });
         }
         for o in &opens {
@@ -428,7 +434,8 @@ impl Plan {
 
     /// Adds the causal link `from —lit→ open` and its threats.
     pub fn add_link(&mut self, task: &Task<'_>, from: u32, from_tp: Tp, o: &Open) -> bool {
-        if !self.stn.add(from_tp, o.need, EPS) {
+        // The step's own start supporting its `over all` condition needs no ordering.
+        if from_tp != o.need && !self.stn.add(from_tp, o.need, EPS) {
             return false;
         }
         let link = Link { from, from_tp, to: o.step, need: o.need, until: o.until, lit: o.lit };

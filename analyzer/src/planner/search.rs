@@ -90,6 +90,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 until: p.goal_tp,
                 cond: u32::MAX,
                 origin: OpenOrigin::Goal(i as u32),
+                after_start: false,
             };
             if !p.add_open(self.task, o) {
                 return None;
@@ -124,7 +125,11 @@ impl<'a, 'db> Search<'a, 'db> {
         }
         for s in 0..p.steps.len() as u32 {
             for (l, tp) in p.effects(self.task, s) {
-                if l == o.lit && tp != o.need && !p.stn.before(o.need, tp) && !(s == o.step && tp == o.until)
+                let own_start = s == o.step && o.after_start && tp == o.need;
+                if l == o.lit
+                    && (tp != o.need || own_start)
+                    && (own_start || !p.stn.before(o.need, tp))
+                    && !(s == o.step && tp == o.until)
                 {
                     out.push((s, tp));
                 }
@@ -638,6 +643,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 until: step.start,
                 cond: u32::MAX,
                 origin: OpenOrigin::MethodPre(m, ci as u32),
+                after_start: false,
             };
             if !p.add_open(self.task, o) {
                 return false;
@@ -653,6 +659,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 until: tp,
                 cond: u32::MAX,
                 origin: OpenOrigin::AbstractEffect,
+                after_start: false,
             };
             if !p.add_open(self.task, o) {
                 return false;
@@ -691,8 +698,11 @@ impl<'a, 'db> Search<'a, 'db> {
             stats.expanded += 1;
             stats.open = heap.len();
             stats.peak_open = stats.peak_open.max(heap.len());
-            if node.effort <= best_effort {
-                best_effort = node.effort;
+            // The most advanced plan: the fewest open links and abstract
+            // flaws (its threats are what stopped it, if anything).
+            let advance = (plan.open.len() + plan.abstracts.len()) as f64;
+            if advance <= best_effort {
+                best_effort = advance;
                 *best = Some(plan.clone());
             }
             if stats.expanded.is_multiple_of(32) {

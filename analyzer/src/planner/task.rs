@@ -224,6 +224,10 @@ struct Compiler<'a, 'db> {
     db: &'db dyn Db,
     g: &'a Ground<'db>,
     unsupported: Vec<Unsupported<'db>>,
+    /// Compiling the goal: grounding checked the static conditions of the
+    /// operators, not those of the goal, so a static goal atom is checked
+    /// here against the initial state.
+    goal: bool,
 }
 
 impl<'db> Compiler<'_, 'db> {
@@ -247,7 +251,7 @@ impl<'db> Compiler<'_, 'db> {
     /// positive condition on it can never hold).
     fn atom(&mut self, item: Item<'db>, a: &crate::model::Atom, b: &Binding) -> Result<Option<AtomId>, ()> {
         let Some(pred) = self.g.predicates.get(&a.pred.key) else { return Err(()) };
-        if self.g.is_static(pred) {
+        if self.g.is_static(pred) && !self.goal {
             return Ok(None);
         }
         let mut args = smallvec::SmallVec::<[ObjId; 4]>::new();
@@ -260,7 +264,15 @@ impl<'db> Compiler<'_, 'db> {
                 }
             }
         }
-        self.g.atoms.find(pred, &args).map(Some).ok_or(())
+        let found = self.g.atoms.find(pred, &args);
+        if self.g.is_static(pred) {
+            // A goal on a static predicate: true or false for ever.
+            return match found {
+                Some(atom) if self.g.init.holds(atom) => Ok(None),
+                _ => Err(()),
+            };
+        }
+        found.map(Some).ok_or(())
     }
 
     /// Collects the conditions of `gd` at `time` (`None`: untimed).
@@ -289,11 +301,14 @@ impl<'db> Compiler<'_, 'db> {
                 Err(()) => *dead = true,
             },
             Gd::Not(inner, span) => match inner.as_ref() {
-                Gd::Atom(a) => {
-                    if let Ok(Some(atom)) = self.atom(item, a, b) {
+                Gd::Atom(a) => match self.atom(item, a, b) {
+                    Ok(Some(atom)) => {
                         out.push(Cond { lit: lit(atom, true), at, until, loc: Loc { item, span: *span } })
                     }
-                }
+                    // A static goal atom that holds: its negation never will.
+                    Ok(None) if self.goal => *dead = true,
+                    Ok(None) | Err(()) => {}
+                },
                 // Grounding enforced (in)equalities.
                 Gd::Equal(..) => {}
                 other => self.unsupported(item, gd_span(other), "a negated formula in a condition"),
@@ -367,7 +382,7 @@ pub fn compile<'db>(
     }
     let Some(domain) = domain_for(db, problem) else { return Err(none("a problem without its domain")) };
     let g: &'db Ground<'db> = ground(db, problem);
-    let mut c = Compiler { db, g, unsupported: Vec::new() };
+    let mut c = Compiler { db, g, unsupported: Vec::new(), goal: false };
     if g.truncated {
         return Err(none("a problem whose grounding exceeds hipop's limits (too many ground actions)"));
     }
@@ -483,6 +498,22 @@ pub fn compile<'db>(
         if !report {
             c.unsupported.truncate(before);
         }
+        // Deletions happen before additions: a deletion of an atom that the
+        // same time point adds has no effect.
+        let effs = op.effs.clone();
+        op.effs.retain(|e| !(is_neg(e.lit) && effs.iter().any(|f| f.at == e.at && f.lit == negate(e.lit))));
+        // A durative action of duration 0 is one happening: its start and
+        // end must not interfere (VAL's mutex), or it is in no valid plan.
+        if !op.instant && op.duration == Some(0.0) {
+            let touched = |at: End| -> Vec<AtomId> {
+                op.effs.iter().filter(|e| e.at == at).map(|e| atom_of(e.lit)).collect()
+            };
+            let (starts, ends) = (touched(End::Start), touched(End::End));
+            let mut end_reads = op.conds.iter().filter(|c| c.at == End::End).map(|c| atom_of(c.lit));
+            if starts.iter().any(|a| ends.contains(a)) || end_reads.any(|a| starts.contains(&a)) {
+                op.dead = true;
+            }
+        }
         ops.push(op);
     }
 
@@ -590,7 +621,9 @@ pub fn compile<'db>(
     for (item, gd) in goal {
         let mut conds = Vec::new();
         let mut dead = false;
+        c.goal = true;
         c.conds(item, gd, &Binding::new(), None, &mut conds, &mut dead);
+        c.goal = false;
         if dead {
             return Err(vec![Unsupported {
                 loc: Loc { item, span: gd_span(gd) },

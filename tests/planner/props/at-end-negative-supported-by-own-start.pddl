@@ -1,0 +1,19 @@
+; Companion of over-all-supported-by-own-start.pddl (analyzer/tests/planner_props.rs).
+; expect: solved
+; bug: condition-supported-by-own-start (reported; `regressions` skips this fixture, `known_bugs` runs it)
+;
+; `a0` deletes `p1` at its start and needs `(not (p1))` at its end: `0.000: (a0) [1.000]`
+; is valid.
+(define (domain d)
+  (:requirements :strips :negative-preconditions :durative-actions)
+  (:predicates (p0) (p1))
+  (:durative-action a0
+    :parameters ()
+    :duration (= ?duration 1)
+    :condition (and (at end (not (p1))))
+    :effect (and (at start (not (p1))) (at end (p0)))))
+
+(define (problem pr)
+  (:domain d)
+  (:init (p1))
+  (:goal (p0)))
