@@ -658,7 +658,10 @@ fn commit() -> String {
         Some(c) => {
             let dirty =
                 git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
-            format!("`{c}`{}", if dirty { " (+ uncommitted changes)" } else { "" })
+            let main = git(&["log", "-1", "--format=%h", "main"])
+                .map(|m| format!(", branch main at `{m}`"))
+                .unwrap_or_default();
+            format!("`{c}`{}{main}", if dirty { " (+ uncommitted changes)" } else { "" })
         }
         None => "unknown (no git)".into(),
     }
