@@ -767,7 +767,8 @@ fn report(
     notes: &[String],
     jobs: &[Job],
     runs: &[Run],
-    started: (&str, &str),
+    // (date, load average, commit) when the bench started.
+    started: (&str, &str, &str),
     took: f64,
 ) -> String {
     let mut out = String::new();
@@ -777,7 +778,7 @@ fn report(
     let _ = writeln!(out, "# Planner benchmark\n");
     let _ = writeln!(out, "- machine: {}", machine());
     let _ = writeln!(out, "- date: {} (finished {}, {:.0} min)", started.0, now_utc(), took / 60.0);
-    let _ = writeln!(out, "- commit: {}", commit());
+    let _ = writeln!(out, "- commit: {}", started.2);
     let _ = writeln!(out, "- load average: {} at the start, {} at the end", started.1, load());
     let _ = writeln!(
         out,
@@ -1010,7 +1011,7 @@ fn main() -> ExitCode {
         if a.jobs == 1 { "" } else { "s" },
         a.out.display()
     );
-    let started = (now_utc(), load());
+    let started = (now_utc(), load(), commit());
     let clock = Instant::now();
     // Rows are appended as runs finish, so an interrupted bench keeps what it measured.
     let csv = Mutex::new(std::fs::File::create(&csv_path).ok());
@@ -1055,7 +1056,15 @@ fn main() -> ExitCode {
         }
     });
     let runs: Vec<Run> = results.into_inner().unwrap().into_iter().map(|r| r.unwrap_or_default()).collect();
-    let md = report(&a, &raw, &notes, &jobs, &runs, (&started.0, &started.1), clock.elapsed().as_secs_f64());
+    let md = report(
+        &a,
+        &raw,
+        &notes,
+        &jobs,
+        &runs,
+        (&started.0, &started.1, &started.2),
+        clock.elapsed().as_secs_f64(),
+    );
     let mut text = format!("{CSV_HEAD}\n");
     for (j, r) in jobs.iter().zip(&runs) {
         text += &csv_line(j, r);
