@@ -332,7 +332,10 @@ fn every_code_has_a_fixture() {
         .collect();
     let missing: Vec<String> = codes::ALL
         .iter()
-        .filter(|c| &c.id[1..3] != "04")
+        // Plan codes (04) have their fixtures in tests/plans, tests/validate
+        // and tests/validate-htn; the planner's (05) in tests/planner, each
+        // exercised by analyzer/tests/planner.rs.
+        .filter(|c| &c.id[1..3] != "04" && &c.id[1..3] != "05")
         .map(|c| format!("{}-{}", c.id, c.name))
         .filter(|stem| {
             !names.iter().any(|n| {

@@ -163,6 +163,7 @@ fn limits_stop_the_search_and_cancellation_is_polled() {
     let (_, result) = plan(&domain, &problem, &Config::default(), &nodes);
     assert_eq!(result.status, Status::Limit(hipop_analyzer::planner::LimitKind::Nodes));
     assert!(result.diagnostics.iter().any(|d| d.code.id == "E0503"));
+    assert!(result.diagnostics.iter().any(|d| d.code.id == "I0504"));
     let mut host = AnalysisHost::new();
     host.set_file_text(&domain.display().to_string(), read(&domain));
     let fp = host.set_file_text(&problem.display().to_string(), read(&problem));
@@ -172,6 +173,15 @@ fn limits_stop_the_search_and_cancellation_is_polled() {
         .expect("not cancelled by salsa")
         .expect("a problem");
     assert!(matches!(cancelled.status, Status::Limit(_) | Status::Solved));
+}
+
+/// Every planner code is exercised by a test of this file.
+#[test]
+fn every_planner_code_is_tested() {
+    let this = read(&root().join("analyzer/tests/planner.rs"));
+    for c in hipop_analyzer::codes::ALL.iter().filter(|c| &c.id[1..3] == "05") {
+        assert!(this.contains(c.id), "{} is not exercised here", c.id);
+    }
 }
 
 #[test]

@@ -674,18 +674,6 @@ const NODES: u64 = 20_000;
 /// The bugs already reported (with their fixture), recognised on a problem
 /// that fails: the random properties count them and go on looking for others.
 fn known_bug(p: &Problem) -> Option<&'static str> {
-    let changed = |pred: usize| p.actions.iter().any(|a| a.effs.iter().any(|l| l.pred == pred));
-    // tests/planner/props/static-goal-false.pddl
-    if p.goal
-        .iter()
-        .any(|(neg, pred, args)| !changed(*pred) && p.init.contains(&(*pred, args.clone())) == *neg)
-    {
-        return Some("static-goal-false");
-    }
-    // tests/planner/props/add-and-delete-in-one-happening.pddl
-    if ground_ops(p, false).iter().any(|op| op.eff.iter().any(|(add, del)| add & del != 0)) {
-        return Some("add-and-delete-in-one-happening");
-    }
     // tests/planner/props/over-all-*supported-by-own-start.pddl, at-end-supported-by-own-start.pddl
     let own = |op: &GroundOp, k: usize| (op.pre[k].0 & op.eff[0].0) | (op.pre[k].1 & op.eff[0].1) != 0;
     if ground_ops(p, false).iter().any(|op| own(op, 1) || own(op, 2)) {

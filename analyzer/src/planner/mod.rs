@@ -285,6 +285,17 @@ pub fn plan<'db>(
         }
         bare(&mut task);
     }
+    if let Some(loc) = task.impossible_goal {
+        let lints = vec![
+            Lint::new(codes::NO_PLAN, loc, "no plan: a goal can never hold"),
+            Lint::new(
+                codes::PLAN_OPEN_LINK,
+                loc,
+                "open link: no action makes this goal true, and the initial state does not either",
+            ),
+        ];
+        return Outcome { status: Status::NoPlan, plan: None, stats, lints };
+    }
     stats.operators = task.ops.len();
     stats.methods = task.methods.len();
     let h = heuristic::Heuristic::new(&task);

@@ -182,6 +182,9 @@ pub struct Task<'db> {
     pub init: Vec<bool>,
     pub tils: Vec<Til<'db>>,
     pub goals: Vec<(Lit, Loc<'db>)>,
+    /// A goal that can never hold (an atom no action makes true, a static
+    /// atom false in the initial state, or its negation true): no plan.
+    pub impossible_goal: Option<Loc<'db>>,
     pub htn: Option<Network<'db>>,
     /// Pure HTN problem: an `:htn` and no `(:allowed-actions …)`.
     pub pure_htn: bool,
@@ -618,17 +621,15 @@ pub fn compile<'db>(
         .map(|t| Til { time: t.time, lit: lit(t.atom, !t.positive), loc: t.loc })
         .collect();
     let mut goals = Vec::new();
+    let mut impossible_goal = None;
     for (item, gd) in goal {
         let mut conds = Vec::new();
         let mut dead = false;
         c.goal = true;
         c.conds(item, gd, &Binding::new(), None, &mut conds, &mut dead);
         c.goal = false;
-        if dead {
-            return Err(vec![Unsupported {
-                loc: Loc { item, span: gd_span(gd) },
-                what: "a goal atom that no action can make true".into(),
-            }]);
+        if dead && impossible_goal.is_none() {
+            impossible_goal = Some(Loc { item, span: gd_span(gd) });
         }
         goals.extend(conds.into_iter().map(|c| (c.lit, c.loc)));
     }
@@ -674,6 +675,7 @@ pub fn compile<'db>(
         init,
         tils,
         goals,
+        impossible_goal,
         htn,
         pure_htn,
         family: vec![None; g.atoms.len()],

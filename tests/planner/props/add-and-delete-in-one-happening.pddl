@@ -1,6 +1,5 @@
 ; Found by analyzer/tests/planner_props.rs (random_problems_against_the_validator_and_bfs).
 ; expect: no-plan
-; bug: add-and-delete-in-one-happening (reported; `regressions` skips this fixture, `known_bugs` runs it)
 ;
 ; The end of `a0` both adds and deletes `p0`. VAL's semantics (and the
 ; validator's) apply deletions before additions: `p0` stays true, so no plan

@@ -1,6 +1,5 @@
 ; Found by analyzer/tests/planner_props.rs (random_problems_against_the_validator_and_bfs).
 ; expect: solved
-; bug: condition-supported-by-own-start (reported; `regressions` skips this fixture, `known_bugs` runs it)
 ;
 ; `a0` deletes `p2` at its start and needs `(not (p2))` over all. In PDDL 2.1
 ; (and for VAL and the validator) an `over all` condition must hold in the

@@ -1,6 +1,5 @@
 ; Found by analyzer/tests/planner_props.rs (random_problems_against_the_validator_and_bfs).
 ; expect: no-plan
-; bug: static-goal-false (reported; `regressions` skips this fixture, `known_bugs` runs it)
 ;
 ; `p1` is static: no action changes it. The goal `(p1 o0)` is false in the
 ; initial state, so no plan exists: the planner must say so (no plan, or a

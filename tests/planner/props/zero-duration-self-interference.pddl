@@ -1,7 +1,6 @@
 ; Found by analyzer/tests/planner_props.rs (mutated_problems_never_panic: a
 ; mutation set a duration to 0), reduced by hand.
 ; expect: no-plan
-; bug: zero-duration-self-interference (reported; `regressions` skips this fixture, `known_bugs` runs it)
 ;
 ; `a0` lasts 0: its start and its end are one happening, where its start adds
 ; `p2` and its end deletes it, a mutex (VAL and the validator reject every
