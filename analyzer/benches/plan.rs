@@ -38,8 +38,15 @@ use serde_json::{Value, json};
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 const SUITES: [&str; 5] = ["survivors", "satellite", "satellite-abstract", "surveillance", "hddl"];
-const SATELLITE: &str = "/work/shared/corpora/ipc2002-temporal/satellite-time-simple-automatic";
-const HDDL: &str = "/work/shared/corpora/ipc2020-hddl/partial-order";
+const SATELLITE: &str = "ipc2002-temporal/satellite-time-simple-automatic";
+const HDDL: &str = "ipc2020-hddl/partial-order";
+
+/// The shared corpora: `HIPOP_CORPORA`, or `../shared/corpora` beside the repository.
+fn corpora() -> PathBuf {
+    std::env::var_os("HIPOP_CORPORA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpora"))
+}
 
 const HELP: &str = "\
 cargo bench -p hipop-analyzer --bench plan -- [SUITE…] [OPTIONS]
@@ -53,8 +60,8 @@ OPTIONS:
     --out FILE.md       the report (default target/plan-bench.md); the CSV is FILE.csv
     --per-domain N      hddl: only the first N problems of each domain
     --filter TEXT       only the problems whose name contains TEXT
-    --satellite DIR     the Satellite corpus folder (default the shared corpus)
-    --hddl DIR          the IPC 2020 partial-order folder (default the shared corpus)
+    --satellite DIR     the Satellite corpus folder (default: $HIPOP_CORPORA or ../shared/corpora)
+    --hddl DIR          the IPC 2020 partial-order folder (default: $HIPOP_CORPORA or ../shared/corpora)
 ";
 
 // ---------------------------------------------------------------- arguments
@@ -101,8 +108,8 @@ fn parse_args(raw: &[String]) -> Result<Args, String> {
         out: target_dir().join("plan-bench.md"),
         per_domain: None,
         filter: None,
-        satellite: PathBuf::from(SATELLITE),
-        hddl: PathBuf::from(HDDL),
+        satellite: corpora().join(SATELLITE),
+        hddl: corpora().join(HDDL),
     };
     let mut it = raw.iter();
     while let Some(arg) = it.next() {

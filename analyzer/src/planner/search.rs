@@ -2,7 +2,9 @@
 //! and flaw selection (section 4.2.3) and geometric reasoning (4.3).
 //!
 //! - Plan selection: `f = g + h`, `g` the makespan of the plan's earliest
-//!   schedule, `h` the sum of the estimates of its open links (h_add, or its
+//!   schedule (or the busiest agent's work, when larger: [`Search::load`])
+//!   plus what its threats must cost (the least delay of the worse of its
+//!   two orderings, for the worst threat: [`Search::settle`]), `h` the sum of the estimates of its open links (h_add, or its
 //!   `reuse`, `advance-reuse`, `motion` and `ncm` variants, Equations 1–3)
 //!   plus the refinement estimates of its abstract flaws; ties broken on the
 //!   remaining effort, then last in, first out.
@@ -63,6 +65,8 @@ pub struct Search<'a, 'db> {
     pub h: &'a Heuristic,
     pub config: &'a Config,
     pub has_motion: bool,
+    /// Whether some operator names its agents (the load estimate).
+    pub has_agents: bool,
 }
 
 /// How a search ended.
@@ -75,7 +79,8 @@ pub enum End2 {
 impl<'a, 'db> Search<'a, 'db> {
     pub fn new(task: &'a Task<'db>, h: &'a Heuristic, config: &'a Config) -> Self {
         let has_motion = config.motion != Motion::Off && task.motion.iter().any(|m| m.is_some());
-        Search { task, h, config, has_motion }
+        let has_agents = task.ops.iter().any(|o| !o.agents.is_empty());
+        Search { task, h, config, has_motion, has_agents }
     }
 
     /// The initial plan: init, goal, timed literals, the goal's open links,
@@ -160,9 +165,9 @@ impl<'a, 'db> Search<'a, 'db> {
     /// h of a plan, and the effort.
     fn estimate(&self, p: &Plan) -> (f64, f64) {
         let (mut h, mut effort) = (0.0, 0.0);
-        let mut prod = Vec::new();
+        let index = EffectIndex::new(self.task, p);
         for o in p.open.iter() {
-            let (c, e) = self.open_cost(p, o, &mut prod);
+            let (c, e) = self.open_cost(p, o, &index);
             h += c;
             effort += e;
         }
@@ -180,31 +185,24 @@ impl<'a, 'db> Search<'a, 'db> {
         (h, effort)
     }
 
-    fn open_cost(&self, p: &Plan, o: &Open, prod: &mut Vec<(u32, Tp)>) -> (f64, f64) {
+    fn open_cost(&self, p: &Plan, o: &Open, index: &EffectIndex) -> (f64, f64) {
         let base = (self.h.lit_cost(o.lit).min(1e6), self.h.lit_effort(o.lit).min(1e6));
         if !is_neg(o.lit)
             && self.config.motion != Motion::Off
-            && let Some((m, _, to)) = self.task.motion_of(atom_of(o.lit))
+            && let Some((m, group, to)) = self.task.motion_of(atom_of(o.lit))
         {
             if self.config.motion == Motion::Ncm {
                 return (0.0, 1.0);
             }
             // Equation 2: the shortest chain of moves from a last known position.
-            let group = self.task.family[atom_of(o.lit) as usize].map(|(g, _)| g);
             let mut best = f64::INFINITY;
             let mut any = false;
-            for s in 0..p.steps.len() as u32 {
-                for (l, tp) in p.effects(self.task, s) {
-                    if is_neg(l) || p.stn.before(o.need, tp) || tp == o.need {
-                        continue;
-                    }
-                    if let Some((g, from)) = self.task.family[atom_of(l) as usize]
-                        && Some(g) == group
-                    {
-                        any = true;
-                        best = best.min(m.dist(from as usize, to as usize));
-                    }
+            for &(from, tp) in index.positions(group) {
+                if tp == o.need || p.stn.before(o.need, tp) {
+                    continue;
                 }
+                any = true;
+                best = best.min(m.dist(from as usize, to as usize));
             }
             if let Some(&a) = m.positions.iter().find(|&&a| self.task.init[a as usize])
                 && let Some((_, from)) = self.task.family[a as usize]
@@ -220,25 +218,25 @@ impl<'a, 'db> Search<'a, 'db> {
         match self.config.plan_h {
             PlanHeuristic::Add => base,
             PlanHeuristic::Reuse => {
-                self.producers_any(p, o, prod);
-                if prod.is_empty() { base } else { (0.0, 0.0) }
+                if self.task.holds_initially(o.lit)
+                    || index.of(o.lit).iter().any(|&tp| tp != o.need && !p.stn.before(o.need, tp))
+                {
+                    (0.0, 0.0)
+                } else {
+                    base
+                }
             }
             PlanHeuristic::AdvanceReuse => {
-                self.producers_any(p, o, prod);
                 // Equation 1: a producer that can be before, and every step
                 // deleting the literal ordered with it.
-                for &(_, e) in prod.iter() {
-                    let mut ok = true;
-                    'steps: for s in 0..p.steps.len() as u32 {
-                        for (l, tp) in p.effects(self.task, s) {
-                            if l == o.lit ^ 1 && !(p.stn.before(tp, e) || p.stn.before(e, tp) || e == ORIGIN)
-                            {
-                                ok = false;
-                                break 'steps;
-                            }
-                        }
-                    }
-                    if ok {
+                let deleters = index.of(o.lit ^ 1);
+                let ordered =
+                    |e: Tp| e == ORIGIN || deleters.iter().all(|&d| p.stn.before(d, e) || p.stn.before(e, d));
+                if self.task.holds_initially(o.lit) && o.step != INIT && ordered(ORIGIN) {
+                    return (0.0, 0.0);
+                }
+                for &e in index.of(o.lit) {
+                    if e != o.need && !p.stn.before(o.need, e) && ordered(e) {
                         return (0.0, 0.0);
                     }
                 }
@@ -247,20 +245,90 @@ impl<'a, 'db> Search<'a, 'db> {
         }
     }
 
-    fn producers_any(&self, p: &Plan, o: &Open, out: &mut Vec<(u32, Tp)>) {
-        out.clear();
-        if self.task.holds_initially(o.lit) {
-            out.push((INIT, ORIGIN));
-            return;
-        }
-        for s in 0..p.steps.len() as u32 {
-            for (l, tp) in p.effects(self.task, s) {
-                if l == o.lit && tp != o.need && !p.stn.before(o.need, tp) {
-                    out.push((s, tp));
-                    return;
+    /// Solves in place the threats left with one consistent resolver, and
+    /// looks ahead at the others: `None` when a threat has no resolver left
+    /// (the plan is dead), else the least increase of the makespan that the
+    /// worst of the remaining threats forces (both of its orderings are
+    /// probed on the network).
+    fn settle(&self, p: &mut Plan) -> Option<f64> {
+        loop {
+            let mut forced = false;
+            let mut i = p.threats.len();
+            while i > 0 {
+                i -= 1;
+                let t = p.threats[i];
+                if !p.still_threat(self.task, &t) {
+                    std::rc::Rc::make_mut(&mut p.threats).remove(i);
+                    continue;
                 }
+                let [(a1, b1), (a2, b2)] = self.threat_orders(p, &t);
+                let ok1 = !p.stn.before(b1, a1) && b1 != a1;
+                let ok2 = !p.stn.before(b2, a2) && b2 != a2;
+                let (a, b) = match (ok1, ok2) {
+                    (false, false) => return None,
+                    (true, true) => continue,
+                    (true, false) => (a1, b1),
+                    (false, true) => (a2, b2),
+                };
+                if !p.stn.add(a, b, EPS) {
+                    return None;
+                }
+                std::rc::Rc::make_mut(&mut p.threats).remove(i);
+                forced = true;
+            }
+            if !forced {
+                break;
             }
         }
+        if p.threats.is_empty() {
+            return Some(0.0);
+        }
+        let lst = p.stn.latest_for(p.goal_tp);
+        let mut penalty: f64 = 0.0;
+        for t in p.threats.iter() {
+            let [(a1, b1), (a2, b2)] = self.threat_orders(p, t);
+            let d1 = p.stn.est(a1) + EPS - lst[b1 as usize];
+            let d2 = p.stn.est(a2) + EPS - lst[b2 as usize];
+            penalty = penalty.max(d1.min(d2));
+        }
+        Some(penalty.max(0.0))
+    }
+
+    /// The busiest agent's work: the sum of the durations of the steps it
+    /// takes part in (`:agent`), an abstract step with a duration counting
+    /// for the subtasks it holds. A robot of a mission does one thing at a
+    /// time, so the plan cannot be shorter; it is what makes the search
+    /// share the work among the robots instead of piling it on one while
+    /// the makespan of the partial plan does not show it yet.
+    fn load(&self, p: &Plan) -> f64 {
+        if !self.has_agents {
+            return 0.0;
+        }
+        let mut load: rustc_hash::FxHashMap<u32, f64> = rustc_hash::FxHashMap::default();
+        for s in p.steps.iter() {
+            let Kind::Op(o) = s.kind else { continue };
+            let op = &self.task.ops[o as usize];
+            if op.agents.is_empty() || op.is_abstract && op.duration.is_none() {
+                continue;
+            }
+            let mut up = s.parent;
+            let mut held = false;
+            while let Some(a) = up {
+                if p.op_of(a).is_some_and(|ao| self.task.ops[ao as usize].duration.is_some()) {
+                    held = true;
+                    break;
+                }
+                up = p.steps[a as usize].parent;
+            }
+            if held {
+                continue;
+            }
+            let d = op.duration.unwrap_or(0.0) + EPS;
+            for &a in &op.agents {
+                *load.entry(a).or_insert(0.0) += d;
+            }
+        }
+        load.values().copied().fold(0.0, f64::max)
     }
 
     /// Picks the flaw to solve, dropping threats that orderings solved since.
@@ -682,29 +750,44 @@ impl<'a, 'db> Search<'a, 'db> {
         let Some(root) = self.initial() else { return End2::Exhausted };
         let mut heap = BinaryHeap::new();
         let mut id = 0u64;
-        let push = |heap: &mut BinaryHeap<Node>, plan: Plan, id: &mut u64, stats: &mut Stats| {
-            let (h, effort) = self.estimate(&plan);
-            let f = plan.makespan() + h;
-            *id += 1;
-            stats.generated += 1;
-            heap.push(Node { f, effort, id: *id, plan });
-        };
-        push(&mut heap, root, &mut id, stats);
-        let mut last_report = Instant::now();
-        let mut children = Vec::new();
+        // The most advanced plan: the fewest open links and abstract flaws
+        // (its threats are what stopped it, if anything).
         let mut best_effort = f64::INFINITY;
-        while let Some(node) = heap.pop() {
-            let mut plan = node.plan;
-            stats.expanded += 1;
-            stats.open = heap.len();
-            stats.peak_open = stats.peak_open.max(heap.len());
-            // The most advanced plan: the fewest open links and abstract
-            // flaws (its threats are what stopped it, if anything).
+        let mut keep_best = |plan: &Plan, best: &mut Option<Plan>| {
             let advance = (plan.open.len() + plan.abstracts.len()) as f64;
             if advance <= best_effort {
                 best_effort = advance;
                 *best = Some(plan.clone());
             }
+        };
+        let push = |heap: &mut BinaryHeap<Node>,
+                    mut plan: Plan,
+                    id: &mut u64,
+                    stats: &mut Stats,
+                    best: &mut Option<Plan>,
+                    keep_best: &mut dyn FnMut(&Plan, &mut Option<Plan>)| {
+            // Threats with one resolver left are solved now; a plan with a
+            // threat that has none is dropped before it costs anything (it
+            // may still be the most advanced one, to report that threat).
+            let Some(penalty) = self.settle(&mut plan) else {
+                keep_best(&plan, best);
+                return;
+            };
+            let (h, effort) = self.estimate(&plan);
+            let f = plan.makespan().max(self.load(&plan)) + penalty + h;
+            *id += 1;
+            stats.generated += 1;
+            heap.push(Node { f, effort, id: *id, plan });
+        };
+        push(&mut heap, root, &mut id, stats, best, &mut keep_best);
+        let mut last_report = Instant::now();
+        let mut children = Vec::new();
+        while let Some(node) = heap.pop() {
+            let mut plan = node.plan;
+            stats.expanded += 1;
+            stats.open = heap.len();
+            stats.peak_open = stats.peak_open.max(heap.len());
+            keep_best(&plan, best);
             if stats.expanded.is_multiple_of(32) {
                 let elapsed = started.elapsed();
                 stats.elapsed = elapsed;
@@ -739,11 +822,45 @@ impl<'a, 'db> Search<'a, 'db> {
             children.clear();
             self.resolvers(&plan, flaw, &mut children);
             for c in children.drain(..) {
-                push(&mut heap, c, &mut id, stats);
+                push(&mut heap, c, &mut id, stats, best, &mut keep_best);
             }
         }
         stats.elapsed = started.elapsed();
         End2::Exhausted
+    }
+}
+
+/// The effects of a plan's steps, by literal, and the positions its steps
+/// reach, by family: built once per plan for its estimate.
+struct EffectIndex {
+    by_lit: rustc_hash::FxHashMap<Lit, Vec<Tp>>,
+    /// Per motion group: (position, time point).
+    positions: rustc_hash::FxHashMap<u32, Vec<(u32, Tp)>>,
+}
+
+impl EffectIndex {
+    fn new(task: &Task<'_>, p: &Plan) -> EffectIndex {
+        let mut by_lit: rustc_hash::FxHashMap<Lit, Vec<Tp>> = rustc_hash::FxHashMap::default();
+        let mut positions: rustc_hash::FxHashMap<u32, Vec<(u32, Tp)>> = rustc_hash::FxHashMap::default();
+        for s in 0..p.steps.len() as u32 {
+            for (l, tp) in p.effects(task, s) {
+                by_lit.entry(l).or_default().push(tp);
+                if !is_neg(l)
+                    && let Some((g, pos)) = task.family[atom_of(l) as usize]
+                {
+                    positions.entry(g).or_default().push((pos, tp));
+                }
+            }
+        }
+        EffectIndex { by_lit, positions }
+    }
+
+    fn of(&self, l: Lit) -> &[Tp] {
+        self.by_lit.get(&l).map_or(&[], |v| v.as_slice())
+    }
+
+    fn positions(&self, group: u32) -> &[(u32, Tp)] {
+        self.positions.get(&group).map_or(&[], |v| v.as_slice())
     }
 }
 

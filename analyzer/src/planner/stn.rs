@@ -156,6 +156,54 @@ impl Stn {
         true
     }
 
+    /// The latest times that keep `target` at its earliest time: `lst[t]` is
+    /// the latest `t` can be without delaying `target` (`INFINITY` for points
+    /// that do not precede it). Adding `t_b ≥ t_a + w` then delays `target`
+    /// by at least `est(a) + w − lst(b)` (exactly, when only lower bounds
+    /// lie between `b` and `target`). A reverse label-correcting pass.
+    pub fn latest_for(&self, target: Tp) -> Vec<f64> {
+        let n = self.len();
+        // Reverse adjacency, compressed.
+        let mut start = vec![0u32; n + 1];
+        for a in 0..n {
+            for e in self.edges(a as Tp) {
+                start[e.to as usize + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut rev = vec![Edge { to: 0, w: 0.0 }; start[n] as usize];
+        for a in 0..n {
+            for e in self.edges(a as Tp) {
+                let k = &mut fill[e.to as usize];
+                rev[*k as usize] = Edge { to: a as Tp, w: e.w };
+                *k += 1;
+            }
+        }
+        let mut lst = vec![f64::INFINITY; n];
+        lst[target as usize] = self.est(target);
+        let mut queue = VecDeque::from([target]);
+        let mut budget = 64 * (n + 16) * (n + 16);
+        while let Some(b) = queue.pop_front() {
+            let tb = lst[b as usize];
+            for e in &rev[start[b as usize] as usize..start[b as usize + 1] as usize] {
+                // t_b ≥ t_a + w  ⇒  t_a ≤ t_b − w.
+                let t = tb - e.w;
+                if t < lst[e.to as usize] - NOISE {
+                    lst[e.to as usize] = t;
+                    queue.push_back(e.to);
+                }
+                budget = budget.saturating_sub(1);
+                if budget == 0 {
+                    return lst;
+                }
+            }
+        }
+        lst
+    }
+
     /// Adds `a < b` to the closure: every point at or before `a` gets `b`
     /// and what follows `b`.
     fn close(&mut self, a: Tp, b: Tp) {
@@ -252,6 +300,17 @@ mod tests {
         assert!(!s.clone().add(ORIGIN, a, 3.0));
         assert!(s.add(ORIGIN, a, 1.5));
         assert_eq!(s.est(b), 11.5);
+        // b must stay at 11.5 for itself: a may not slip; a point after a
+        // by 1 with nothing after it may slip to the horizon.
+        let lb = s.latest_for(b);
+        assert_eq!(lb[a as usize], 1.5);
+        assert_eq!(lb[b as usize], 11.5);
+        let c = s.add_point();
+        assert!(s.add(a, c, 1.0));
+        let lb = s.latest_for(b);
+        assert_eq!(lb[c as usize], f64::INFINITY);
+        // Delaying b's predecessor a past its latest time delays b.
+        assert!(s.est(c) + EPS > lb[a as usize]);
         let lst = s.latest(20.0);
         assert_eq!(lst[b as usize], 12.0);
         assert_eq!(lst[a as usize], 2.0);
