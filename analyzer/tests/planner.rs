@@ -196,6 +196,36 @@ fn configurations_parse_like_the_papers() {
 
 /// The IPC 2002 temporal Satellite problems the default configuration solves
 /// within a few seconds; each plan validates.
+/// Patrols (abstract actions) that do not declare where they leave their
+/// robot: a position link waits until the patrol before it is refined, so
+/// that its chain of moves starts where the patrol ends.
+#[test]
+fn patrols_that_leave_positions_undeclared_are_planned() {
+    let path = root().join("tests/planner/patrols-leave-positions-undeclared.pddl");
+    let (mut host, result) = plan(&path, &path, &Config::default(), &limits(30));
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &path, &result);
+}
+
+/// The surveillance sample with its first eight observations as the goal:
+/// several patrols per robot, refined, with the moves between them.
+#[test]
+fn surveillance_patrols_are_planned() {
+    let dir = root().join("samples/surveillance");
+    let text = read(&dir.join("problem.pddl"));
+    let (head, goal) = text.split_once("(:goal (and").expect("a goal");
+    let observed: Vec<&str> = goal.lines().filter(|l| l.contains("(observed ")).take(8).collect();
+    assert_eq!(observed.len(), 8);
+    let sub = format!("{head}(:goal (and\n{}\n  ))\n)\n", observed.join("\n"));
+    let tmp = std::env::temp_dir().join(format!("hipop-surveillance-8-{}.pddl", std::process::id()));
+    std::fs::write(&tmp, sub).expect("temporary problem written");
+    let (mut host, result) = plan(&dir.join("domain.pddl"), &tmp, &Config::default(), &limits(60));
+    let _ = std::fs::remove_file(&tmp);
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert!(result.plan.as_ref().is_some_and(|p| p.is_hierarchical()));
+    assert_valid(&mut host, &tmp, &result);
+}
+
 #[test]
 fn satellite_corpus_plans_validate() {
     let Some(corpora) = corpora() else {

@@ -90,7 +90,8 @@
 
   ;; Patrols: abstract actions defined by the operator. Each one starts and ends at the
   ;; same waypoint; its duration is the length of its route at the speed of its robot
-  ;; type plus 10 s per observation. It moves its robot, hence the conflict on
+  ;; type plus 10 s per observation and 0.01 s between successive subtasks (the
+  ;; separation of dependent happenings). It moves its robot, hence the conflict on
   ;; (at-r ?r ?w), where ?w is a wildcard (any waypoint). Two methods per patrol: the route
   ;; forwards (:ordered-subtasks) and backwards (:subtasks and :ordering).
 
@@ -98,7 +99,7 @@
   (:task patrol-aerial-1
     :parameters (?r - aerial)
     :agent (?r)
-    :duration (= ?duration 576.55)
+    :duration (= ?duration 576.66)
     :condition (at start (at-r ?r wpa_17242_4440))
     :effect (and
       (at end (observed ptobs_20357_6048))
@@ -158,7 +159,7 @@
   (:task patrol-aerial-2
     :parameters (?r - aerial)
     :agent (?r)
-    :duration (= ?duration 300.26)
+    :duration (= ?duration 300.33)
     :condition (at start (at-r ?r wpa_13952_8968))
     :effect (and
       (at end (observed ptobs_11641_9188))
@@ -206,7 +207,7 @@
   (:task patrol-aerial-3
     :parameters (?r - aerial)
     :agent (?r)
-    :duration (= ?duration 415.33)
+    :duration (= ?duration 415.42)
     :condition (at start (at-r ?r wpa_17292_8853))
     :effect (and
       (at end (observed ptobs_16987_11322))
@@ -260,7 +261,7 @@
   (:task patrol-ugv-small-1
     :parameters (?r - ugv-small)
     :agent (?r)
-    :duration (= ?duration 1643.92)
+    :duration (= ?duration 1644.07)
     :condition (at start (at-r ?r wpr_15503_3217))
     :effect (and
       (at end (observed ptobs_17455_3070))
@@ -331,7 +332,7 @@
   (:task patrol-ugv-small-2
     :parameters (?r - ugv-small)
     :agent (?r)
-    :duration (= ?duration 1154.75)
+    :duration (= ?duration 1154.87)
     :condition (at start (at-r ?r wpr_20320_6098))
     :effect (and
       (at end (observed ptobs_21660_6185))
@@ -394,7 +395,7 @@
   (:task patrol-ugv-small-3
     :parameters (?r - ugv-small)
     :agent (?r)
-    :duration (= ?duration 1359.98)
+    :duration (= ?duration 1360.10)
     :condition (at start (at-r ?r wpr_15315_10388))
     :effect (and
       (at end (observed ptobs_14995_8380))
@@ -457,7 +458,7 @@
   (:task patrol-ugv-large-1
     :parameters (?r - ugv-large)
     :agent (?r)
-    :duration (= ?duration 789.70)
+    :duration (= ?duration 789.77)
     :condition (at start (at-r ?r wpr_15503_3217))
     :effect (and
       (at end (observed ptobs_16405_2335))
@@ -504,7 +505,7 @@
   (:task patrol-ugv-large-2
     :parameters (?r - ugv-large)
     :agent (?r)
-    :duration (= ?duration 1072.30)
+    :duration (= ?duration 1072.39)
     :condition (at start (at-r ?r wpr_21984_2986))
     :effect (and
       (at end (observed ptobs_22621_1939))
@@ -558,7 +559,7 @@
   (:task patrol-ugv-large-3
     :parameters (?r - ugv-large)
     :agent (?r)
-    :duration (= ?duration 2316.11)
+    :duration (= ?duration 2316.27)
     :condition (at start (at-r ?r wpr_15114_8179))
     :effect (and
       (at end (observed ptobs_13955_5315))

@@ -67,6 +67,9 @@ pub struct Search<'a, 'db> {
     pub has_motion: bool,
     /// Whether some operator names its agents (the load estimate).
     pub has_agents: bool,
+    /// Per abstract operator, the motion groups (members of a position
+    /// family with move actions) its refinements may move (sorted).
+    moves_groups: Vec<Vec<u32>>,
 }
 
 /// How a search ended.
@@ -80,7 +83,24 @@ impl<'a, 'db> Search<'a, 'db> {
     pub fn new(task: &'a Task<'db>, h: &'a Heuristic, config: &'a Config) -> Self {
         let has_motion = config.motion != Motion::Off && task.motion.iter().any(|m| m.is_some());
         let has_agents = task.ops.iter().any(|o| !o.agents.is_empty());
-        Search { task, h, config, has_motion, has_agents }
+        let moves_groups = task
+            .ops
+            .iter()
+            .enumerate()
+            .map(|(op, o)| {
+                if !has_motion || !o.is_abstract {
+                    return Vec::new();
+                }
+                (0..task.motion.len() as u32)
+                    .filter(|&g| {
+                        task.motion[g as usize].as_ref().is_some_and(|m| {
+                            m.positions.iter().any(|&a| h.may_add(op as u32, super::task::lit(a, false)))
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        Search { task, h, config, has_motion, has_agents, moves_groups }
     }
 
     /// The initial plan: init, goal, timed literals, the goal's open links,
@@ -446,10 +466,16 @@ impl<'a, 'db> Search<'a, 'db> {
             {
                 return false;
             }
-            a != o.step
-                && !p.descends(o.step, a)
-                && !p.stn.before(o.need, st.start)
-                && self.h.may_add(op, o.lit)
+            // A position also waits for an abstract step that may move its
+            // member elsewhere: where that step leaves it is where the next
+            // chain of moves starts (the last known position, 4.3.1).
+            let may = self.h.may_add(op, o.lit)
+                || self.is_position_link(o.lit)
+                    && self
+                        .task
+                        .motion_of(atom_of(o.lit))
+                        .is_some_and(|(_, g, _)| self.moves_groups[op as usize].binary_search(&g).is_ok());
+            a != o.step && !p.descends(o.step, a) && !p.stn.before(o.need, st.start) && may
         })
     }
 

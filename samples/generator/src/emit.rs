@@ -102,7 +102,9 @@ pub fn domain(world: &World, prov: &Provenance) -> String {
         .unwrap();
     writeln!(out, "  ;; same waypoint; its duration is the length of its route at the speed of its robot")
         .unwrap();
-    writeln!(out, "  ;; type plus {OBSERVE_S} s per observation. It moves its robot, hence the conflict on")
+    writeln!(out, "  ;; type plus {OBSERVE_S} s per observation and 0.01 s between successive subtasks (the")
+        .unwrap();
+    writeln!(out, "  ;; separation of dependent happenings). It moves its robot, hence the conflict on")
         .unwrap();
     writeln!(
         out,

@@ -708,11 +708,19 @@ fn build_patrols(world: &World, graph: &Graph) -> Vec<Patrol> {
             let n = counters.entry(t).or_insert(0);
             *n += 1;
             let move_cs = (length_cm * 100).div_ceil(t.speed_cms());
+            // Successive subtasks depend on each other (a move gives the next
+            // step its position; an observe holds the position the next move
+            // leaves), so a plan separates them by ε = 0.01 s, VAL's
+            // tolerance: the patrol lasts that much longer per subtask after
+            // the first, or its methods could not fit inside it.
+            let subtasks = (walk.len() - 1 + observations.len()) as u64;
             patrols.push(Patrol {
                 name: format!("patrol-{}-{}", t.pddl(), n),
                 rtype: t,
                 start,
-                duration_cs: move_cs + observations.len() as u64 * OBSERVE_S * 100,
+                duration_cs: move_cs
+                    + observations.len() as u64 * OBSERVE_S * 100
+                    + subtasks.saturating_sub(1),
                 observations,
                 walk,
                 length_cm,
