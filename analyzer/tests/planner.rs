@@ -207,6 +207,19 @@ fn patrols_that_leave_positions_undeclared_are_planned() {
     assert_valid(&mut host, &path, &result);
 }
 
+/// A task without arguments that refines into itself after an action (PCP's
+/// `S → t S y`) is refined inside its own refinement; the moves it needs come
+/// from its methods, never from chains of moves (𝒜 is empty: pure HTN).
+#[test]
+fn recursive_tasks_are_refined_and_pure_htn_inserts_nothing() {
+    let path = root().join("tests/planner/recursive-task.hddl");
+    let (mut host, result) = plan(&path, &path, &Config::default(), &limits(30));
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &path, &result);
+    let plan = result.plan.as_ref().expect("a plan");
+    assert_eq!(plan.root.len(), 1, "only the :htn task is a root:\n{}", plan.to_hierarchical("t"));
+}
+
 /// The surveillance sample with its first eight observations as the goal:
 /// several patrols per robot, refined, with the moves between them.
 #[test]

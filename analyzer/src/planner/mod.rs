@@ -212,6 +212,9 @@ pub struct Stats {
     /// Ground operators and method instances of the task.
     pub operators: usize,
     pub methods: usize,
+    /// Method instances not tried because they repeat a task below itself
+    /// (set when the search space is exhausted).
+    pub loops_skipped: u64,
 }
 
 /// How planning ended.
@@ -308,11 +311,18 @@ pub fn plan<'db>(
             Outcome { status: Status::Solved, plan: Some(plan), stats, lints: Vec::new() }
         }
         search::End2::Exhausted => {
+            let skipped = match stats.loops_skipped {
+                0 => String::new(),
+                n => format!(
+                    ", except {n} refinement{} that repeat a task with the same arguments below itself",
+                    if n == 1 { "" } else { "s" }
+                ),
+            };
             let mut lints = vec![Lint::new(
                 codes::NO_PLAN,
                 mission_loc(db, &task),
                 format!(
-                    "no plan with the allowed actions and the methods: the search explored every partial plan ({} expanded)",
+                    "no plan with the allowed actions and the methods: the search explored every partial plan ({} expanded){skipped}",
                     stats.expanded
                 ),
             )];

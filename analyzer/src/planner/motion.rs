@@ -43,11 +43,13 @@ pub(super) fn families<'db>(db: &'db dyn Db, problem: Unit<'db>, task: &mut Task
     task.groups = groups.len();
     // The move operators of each group: their only condition is the
     // from-position, their only effects the to-position and its deletion.
+    // Only moves of 𝒜: the chains of moves are steps the planner inserts (in
+    // a pure HTN problem, none: moves come from methods).
     let move_items: Vec<_> =
         fams.confirmed.iter().flat_map(|f| f.moves.iter().map(|(item, _)| *item)).collect();
     let mut edges: Vec<Vec<(u32, u32, f64, u32)>> = vec![Vec::new(); groups.len()];
     for (i, op) in task.ops.iter().enumerate() {
-        if !move_items.contains(&op.item) || op.dead {
+        if !move_items.contains(&op.item) || op.dead || !op.allowed {
             continue;
         }
         let from =

@@ -70,6 +70,8 @@ pub struct Search<'a, 'db> {
     /// Per abstract operator, the motion groups (members of a position
     /// family with move actions) its refinements may move (sorted).
     moves_groups: Vec<Vec<u32>>,
+    /// Method instances not tried because they only go round a loop.
+    loops: std::cell::Cell<u64>,
 }
 
 /// How a search ended.
@@ -100,7 +102,7 @@ impl<'a, 'db> Search<'a, 'db> {
                     .collect()
             })
             .collect();
-        Search { task, h, config, has_motion, has_agents, moves_groups }
+        Search { task, h, config, has_motion, has_agents, moves_groups, loops: Default::default() }
     }
 
     /// The initial plan: init, goal, timed literals, the goal's open links,
@@ -479,13 +481,36 @@ impl<'a, 'db> Search<'a, 'db> {
         })
     }
 
-    fn is_ancestor_task(&self, p: &Plan, mut s: u32, op: u32) -> bool {
+    /// Whether refining step `s` with method `m` only goes round a loop: a
+    /// subtask of `m` is the ground task of `s` or of one of its ancestors
+    /// (same task, same arguments), and either that task has arguments (a
+    /// cycle: `get-to truck1 city2` again below itself means driving back to
+    /// where the truck was), or no method on the way from that ancestor down
+    /// (`m` included) adds a primitive step (a pure loop). A task without
+    /// arguments that recurses through actions (`S → t S y`, PCP's, any
+    /// "repeat until done" task) makes progress and is kept.
+    fn only_loops(&self, p: &Plan, s: u32, m: u32) -> bool {
+        let primitive = |m: u32| {
+            self.task.methods[m as usize]
+                .subtasks
+                .iter()
+                .any(|&(_, op)| !self.task.ops[op as usize].is_abstract)
+        };
+        let subtasks = &self.task.methods[m as usize].subtasks;
+        let mut progress = primitive(m);
+        let mut cur = s;
         loop {
-            if p.op_of(s) == Some(op) {
+            if let Some(op) = p.op_of(cur)
+                && subtasks.iter().any(|&(_, sub)| sub == op)
+                && (!progress || !self.task.ops[op as usize].args.is_empty())
+            {
                 return true;
             }
-            match p.steps[s as usize].parent {
-                Some(parent) => s = parent,
+            match p.steps[cur as usize].parent {
+                Some(parent) => {
+                    progress |= p.steps[parent as usize].method.is_some_and(primitive);
+                    cur = parent;
+                }
                 None => return false,
             }
         }
@@ -592,13 +617,8 @@ impl<'a, 'db> Search<'a, 'db> {
                 let s = p.abstracts[i];
                 let Kind::Op(op) = p.steps[s as usize].kind else { return };
                 for &m in &self.task.ops[op as usize].methods {
-                    // A method whose subtask is the same ground task as the
-                    // step or one of its ancestors only goes round a loop.
-                    if self.task.methods[m as usize]
-                        .subtasks
-                        .iter()
-                        .any(|&(_, sub)| self.is_ancestor_task(p, s, sub))
-                    {
+                    if self.only_loops(p, s, m) {
+                        self.loops.set(self.loops.get() + 1);
                         continue;
                     }
                     let mut c = p.clone();
@@ -852,6 +872,7 @@ impl<'a, 'db> Search<'a, 'db> {
             }
         }
         stats.elapsed = started.elapsed();
+        stats.loops_skipped = self.loops.get();
         End2::Exhausted
     }
 }
