@@ -35,7 +35,8 @@ use serde_json::{Value, json};
 
 /// The allocator of the `hipop` binary: what it measures is what users get.
 #[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static GLOBAL: hipop_analyzer::alloc::Counting<mimalloc::MiMalloc> =
+    hipop_analyzer::alloc::Counting::new(mimalloc::MiMalloc);
 
 const SUITES: [&str; 5] = ["survivors", "satellite", "satellite-abstract", "surveillance", "hddl"];
 const SATELLITE: &str = "ipc2002-temporal/satellite-time-simple-automatic";
@@ -190,7 +191,11 @@ fn one(raw: &[String]) -> ExitCode {
     };
     let config = Config::parse(config).expect("the parent checked the configuration");
     let limit: f64 = limit.parse().expect("the parent checked the limit");
-    let limits = PlannerLimits { time: Some(Duration::from_secs_f64(limit)), ..PlannerLimits::default() };
+    let limits = PlannerLimits {
+        time: Some(Duration::from_secs_f64(limit)),
+        memory_in_use: Some(hipop_analyzer::alloc::in_use),
+        ..PlannerLimits::default()
+    };
     let read = |p: &str| std::fs::read_to_string(p).unwrap_or_else(|e| panic!("cannot read {p}: {e}"));
     let mut host = AnalysisHost::new();
     host.set_file_text(domain, read(domain));

@@ -4,6 +4,7 @@
 //! Architecture invariant: no I/O, no printing, no LSP types. Positions are
 //! byte offsets; the CLI and the server convert them.
 
+pub mod alloc;
 pub mod db;
 pub mod diagnostic;
 pub mod fix;

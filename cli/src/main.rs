@@ -16,9 +16,11 @@ use clap::{Parser, Subcommand, ValueEnum};
 /// Parsing and checking allocate many small nodes on several threads, and
 /// free some on another thread than the one that allocated them: mimalloc
 /// does this with less work and far fewer system calls than the system
-/// allocator (docs/benchmarks.md).
+/// allocator (docs/benchmarks.md). Counted, so that the planner's memory
+/// limit is the heap the process holds.
 #[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static GLOBAL: hipop_analyzer::alloc::Counting<mimalloc::MiMalloc> =
+    hipop_analyzer::alloc::Counting::new(mimalloc::MiMalloc);
 
 /// Check multi-robot missions written in extended HTN-PDDL (PDDL 2.1 temporal
 /// domains, HDDL hierarchical domains and the HiPOP extensions), and serve them
@@ -110,7 +112,7 @@ struct PlanArgs {
     /// Stop after expanding this many partial plans.
     #[arg(long, value_name = "N")]
     node_limit: Option<u64>,
-    /// Stop when the open list would hold more than this many mebibytes (estimated).
+    /// Stop when the process holds more than this many mebibytes of heap.
     #[arg(long, value_name = "MIB", default_value_t = 4096)]
     memory_limit: usize,
     /// Print progress (plans expanded, open list, best f) about every 100 ms.
@@ -362,6 +364,7 @@ fn main() -> ExitCode {
                     time: Some(args.time_limit),
                     nodes: args.node_limit,
                     memory: Some(args.memory_limit.saturating_mul(1 << 20)),
+                    memory_in_use: Some(hipop_analyzer::alloc::in_use),
                     ..Default::default()
                 },
                 color: args.color,

@@ -150,13 +150,17 @@ impl Config {
 }
 
 /// Where the planner stops.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct PlannerLimits {
     pub time: Option<Duration>,
     /// Plans expanded.
     pub nodes: Option<u64>,
-    /// Bytes the open list may hold (estimated).
+    /// Heap bytes: measured by `memory_in_use` when the host gives it, else
+    /// the open list's size, estimated.
     pub memory: Option<usize>,
+    /// The heap bytes the process holds (`crate::alloc::in_use` in a binary
+    /// whose global allocator is `crate::alloc::Counting`).
+    pub memory_in_use: Option<fn() -> usize>,
     /// Ground instances per method.
     pub method_instances: usize,
 }
@@ -167,6 +171,7 @@ impl Default for PlannerLimits {
             time: Some(Duration::from_secs(60)),
             nodes: None,
             memory: Some(4 << 30),
+            memory_in_use: None,
             method_instances: 100_000,
         }
     }

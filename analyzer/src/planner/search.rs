@@ -857,7 +857,14 @@ impl<'a, 'db> Search<'a, 'db> {
                 stats.elapsed = started.elapsed();
                 return End2::Limit(LimitKind::Nodes);
             }
-            if limits.memory.is_some_and(|m| heap.len().saturating_mul(approx_plan_bytes(&plan)) > m) {
+            let over = match (limits.memory, limits.memory_in_use) {
+                // Measured: often enough (a plan is a few kilobytes to a few
+                // hundred; 32 expansions cannot overshoot by much).
+                (Some(m), Some(in_use)) => stats.expanded.is_multiple_of(32) && in_use() > m,
+                (Some(m), None) => heap.len().saturating_mul(approx_plan_bytes(&plan)) > m,
+                (None, _) => false,
+            };
+            if over {
                 stats.elapsed = started.elapsed();
                 return End2::Limit(LimitKind::Memory);
             }
