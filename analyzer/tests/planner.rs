@@ -220,6 +220,19 @@ fn recursive_tasks_are_refined_and_pure_htn_inserts_nothing() {
     assert_eq!(plan.root.len(), 1, "only the :htn task is a root:\n{}", plan.to_hierarchical("t"));
 }
 
+/// `:htn` parameters (every binding is a start) and method `:constraints`
+/// (they restrict the method's instances), as IPC 2020 domains use them.
+#[test]
+fn htn_parameters_and_method_constraints_are_planned() {
+    let path = root().join("tests/planner/htn-parameters-and-method-constraints.hddl");
+    let (mut host, result) = plan(&path, &path, &Config::default(), &limits(30));
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &path, &result);
+    let plan = result.plan.as_ref().expect("a plan");
+    let root = &plan.steps[plan.root[0]];
+    assert_eq!((root.name.as_str(), root.args.as_slice()), ("deliver", ["town".to_string()].as_slice()));
+}
+
 /// The surveillance sample with its first eight observations as the goal:
 /// several patrols per robot, refined, with the moves between them.
 #[test]

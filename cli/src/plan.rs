@@ -125,13 +125,15 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
     }
     match (&result.status, &result.plan) {
         (Status::Solved, Some(plan)) => {
+            let count = |n: usize, one: &str| format!("{n} {one}{}", if n == 1 { "" } else { "s" });
+            let actions = plan.primitive().count();
             let header = format!(
-                "hipop plan for problem {} of domain {}\nmakespan {:.3}, {} actions, {} abstract steps\n{search}",
+                "hipop plan for problem {} of domain {}\nmakespan {:.3}, {}, {}\n{search}",
                 plan.problem,
                 plan.domain,
                 plan.makespan,
-                plan.primitive().count(),
-                plan.steps.len() - plan.primitive().count(),
+                count(actions, "action"),
+                count(plan.steps.len() - actions, "abstract step"),
             );
             let format = match options.format {
                 PlanOutput::Auto if plan.is_hierarchical() => PlanOutput::Hierarchical,

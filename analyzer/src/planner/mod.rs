@@ -358,7 +358,7 @@ fn mission_loc<'db>(db: &'db dyn Db, task: &task::Task<'db>) -> Loc<'db> {
     task.goals
         .first()
         .map(|g| g.1)
-        .or_else(|| task.htn.as_ref().and_then(|n| n.tasks.first().map(|t| t.1)))
+        .or_else(|| task.htn.iter().flatten().find_map(|n| n.tasks.first().map(|t| t.1)))
         .unwrap_or(Loc { item: task.problem.items(db)[0], span: rowan::TextRange::default() })
 }
 

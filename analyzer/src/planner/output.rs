@@ -413,8 +413,9 @@ pub fn flaws<'db>(db: &'db dyn Db, task: &Task<'db>, best: Option<&Plan>, h: &He
         let loc = match p.steps[s as usize].parent {
             None => task
                 .htn
-                .as_ref()
-                .and_then(|n| n.tasks.iter().find(|t| t.0 == op).map(|t| t.1))
+                .iter()
+                .flatten()
+                .find_map(|n| n.tasks.iter().find(|t| t.0 == op).map(|t| t.1))
                 .unwrap_or_else(|| item_name_loc(db, task, op)),
             Some(_) => item_name_loc(db, task, op),
         };

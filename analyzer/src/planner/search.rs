@@ -105,10 +105,11 @@ impl<'a, 'db> Search<'a, 'db> {
         Search { task, h, config, has_motion, has_agents, moves_groups, loops: Default::default() }
     }
 
-    /// The initial plan: init, goal, timed literals, the goal's open links,
-    /// the `:htn` tasks with their orderings.
-    pub fn initial(&self) -> Option<Plan> {
-        let mut p = Plan::initial(self.task)?;
+    /// The initial plans: init, goal, timed literals, the goal's open links,
+    /// and the `:htn` tasks with their orderings, one plan per ground
+    /// initial task network (the bindings of the `:htn` parameters).
+    pub fn initial(&self) -> Vec<Plan> {
+        let Some(mut p) = Plan::initial(self.task) else { return Vec::new() };
         for (i, &(l, _)) in self.task.goals.iter().enumerate() {
             let o = Open {
                 step: GOAL,
@@ -120,23 +121,27 @@ impl<'a, 'db> Search<'a, 'db> {
                 after_start: false,
             };
             if !p.add_open(self.task, o) {
-                return None;
+                return Vec::new();
             }
         }
-        if let Some(net) = &self.task.htn {
-            let mut ids = Vec::new();
-            for &(op, _) in &net.tasks {
-                ids.push(p.add_step(self.task, self.h, op, None)?);
-            }
-            for o in &net.orders {
-                let a = p.steps[ids[o.from.0] as usize].tp(o.from.1);
-                let b = p.steps[ids[o.to.0] as usize].tp(o.to.1);
-                if !p.stn.add(a, b, if o.strict { EPS } else { 0.0 }) {
-                    return None;
+        let Some(nets) = &self.task.htn else { return vec![p] };
+        nets.iter()
+            .filter_map(|net| {
+                let mut p = p.clone();
+                let mut ids = Vec::new();
+                for &(op, _) in &net.tasks {
+                    ids.push(p.add_step(self.task, self.h, op, None)?);
                 }
-            }
-        }
-        Some(p)
+                for o in &net.orders {
+                    let a = p.steps[ids[o.from.0] as usize].tp(o.from.1);
+                    let b = p.steps[ids[o.to.0] as usize].tp(o.to.1);
+                    if !p.stn.add(a, b, if o.strict { EPS } else { 0.0 }) {
+                        return None;
+                    }
+                }
+                Some(p)
+            })
+            .collect()
     }
 
     fn is_position_link(&self, l: Lit) -> bool {
@@ -793,7 +798,7 @@ impl<'a, 'db> Search<'a, 'db> {
         best: &mut Option<Plan>,
     ) -> End2 {
         let started = Instant::now();
-        let Some(root) = self.initial() else { return End2::Exhausted };
+        let roots = self.initial();
         let mut heap = BinaryHeap::new();
         let mut id = 0u64;
         // The most advanced plan: the fewest open links and abstract flaws
@@ -825,7 +830,9 @@ impl<'a, 'db> Search<'a, 'db> {
             stats.generated += 1;
             heap.push(Node { f, effort, id: *id, plan });
         };
-        push(&mut heap, root, &mut id, stats, best, &mut keep_best);
+        for root in roots {
+            push(&mut heap, root, &mut id, stats, best, &mut keep_best);
+        }
         let mut last_report = Instant::now();
         let mut children = Vec::new();
         while let Some(node) = heap.pop() {

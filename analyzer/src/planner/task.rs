@@ -13,7 +13,8 @@
 //! What the planner cannot follow is reported here, located, before any
 //! search ([`Unsupported`]): numeric conditions, disjunctions and quantifiers
 //! in conditions, conditional and quantified effects, durations that are not
-//! one number, method effects, grounding past its limits, `:htn` parameters.
+//! one number, method effects, grounding past its limits, `:htn` parameters
+//! with too many bindings.
 
 use rustc_hash::FxHashMap;
 
@@ -185,7 +186,10 @@ pub struct Task<'db> {
     /// A goal that can never hold (an atom no action makes true, a static
     /// atom false in the initial state, or its negation true): no plan.
     pub impossible_goal: Option<Loc<'db>>,
-    pub htn: Option<Network<'db>>,
+    /// The ground initial task networks: one per binding of the `:htn`
+    /// parameters that has ground tasks (one when it has none); the planner
+    /// starts from each.
+    pub htn: Option<Vec<Network<'db>>>,
     /// Pure HTN problem: an `:htn` and no `(:allowed-actions …)`.
     pub pure_htn: bool,
     /// Per atom: its position family group and local position, if any
@@ -222,6 +226,9 @@ impl<'db> Task<'db> {
 }
 
 type Binding = Vec<(Str, ObjId)>;
+
+/// The initial task networks a problem's `:htn` parameters may give.
+const MAX_HTN_BINDINGS: usize = 10_000;
 
 struct Compiler<'a, 'db> {
     db: &'db dyn Db,
@@ -550,6 +557,11 @@ pub fn compile<'db>(
             if let Some(p) = &method.precondition {
                 c.conds(m.method, p, &b, None, &mut pre, &mut dead);
             }
+            // `:constraints`: grounding enforced their (in)equalities; an
+            // atom there is a condition like the precondition's.
+            if let Some(g) = &method.network.constraints {
+                c.conds(m.method, g, &b, None, &mut pre, &mut dead);
+            }
             if dead {
                 return;
             }
@@ -580,18 +592,15 @@ pub fn compile<'db>(
         }
     }
     for &item in domain.items(db).iter().filter(|i| i.section(db) == Section::Method) {
-        if let ItemData::Method(m) = &lower_item(db, item).data {
-            if let Some(e) = &m.effect {
-                let span = match e {
-                    Effect::And(_, s) | Effect::Del(_, s) => *s,
-                    Effect::Add(a) => a.span,
-                    _ => m.name.span,
-                };
-                c.unsupported(item, span, "method effects");
-            }
-            if let Some(gd) = &m.network.constraints {
-                c.unsupported(item, gd_span(gd), "method constraints");
-            }
+        if let ItemData::Method(m) = &lower_item(db, item).data
+            && let Some(e) = &m.effect
+        {
+            let span = match e {
+                Effect::And(_, s) | Effect::Del(_, s) => *s,
+                Effect::Add(a) => a.span,
+                _ => m.name.span,
+            };
+            c.unsupported(item, span, "method effects");
         }
     }
     for (i, m) in methods.iter().enumerate() {
@@ -638,27 +647,67 @@ pub fn compile<'db>(
     let htn = match htn_item {
         None => None,
         Some((item, h)) => {
-            if !h.params.is_empty() {
-                c.unsupported(item, h.span, "`:htn` parameters (variables of the initial task network)");
+            // `:htn :parameters`: every binding of them to objects of their
+            // types is an initial task network to start from.
+            let domains: Vec<Vec<ObjId>> = h
+                .params
+                .iter()
+                .map(|p| g.objects.of_types(&crate::semantics::symbols::type_set(&p.ty)))
+                .collect();
+            let count = domains.iter().fold(1usize, |n, d| n.saturating_mul(d.len()));
+            if count > MAX_HTN_BINDINGS {
+                c.unsupported(
+                    item,
+                    h.span,
+                    &format!("`:htn` parameters with more than {MAX_HTN_BINDINGS} bindings ({count})"),
+                );
             }
-            let mut net = Network::default();
-            for st in &h.network.subtasks {
-                let args: Option<Vec<ObjId>> =
-                    st.call.args.iter().map(|t| c.term(t, &Binding::new())).collect();
-                let op = args.and_then(|a| op_index.get(&(st.call.name.key.clone(), a.as_slice())).copied());
-                match op {
-                    Some(op) => net.tasks.push((op, Loc { item, span: st.call.span })),
-                    None if h.params.is_empty() => {
-                        return Err(vec![Unsupported {
-                            loc: Loc { item, span: st.call.span },
-                            what: "an `:htn` task with no ground instance (its arguments' types or static preconditions rule it out)".into(),
-                        }]);
+            let orders = network_orders(&mut c, item, &h.network);
+            let mut nets = Vec::new();
+            let mut choice = vec![0usize; domains.len()];
+            let mut missing = None;
+            'bindings: while count <= MAX_HTN_BINDINGS && domains.iter().all(|d| !d.is_empty()) {
+                let b: Binding = h
+                    .params
+                    .iter()
+                    .zip(&domains)
+                    .zip(&choice)
+                    .map(|((p, d), &k)| (p.name.key.clone(), d[k]))
+                    .collect();
+                let mut net = Network { tasks: Vec::new(), orders: orders.clone() };
+                let mut complete = true;
+                for st in &h.network.subtasks {
+                    let args: Option<Vec<ObjId>> = st.call.args.iter().map(|t| c.term(t, &b)).collect();
+                    match args.and_then(|a| op_index.get(&(st.call.name.key.clone(), a.as_slice())).copied())
+                    {
+                        Some(op) => net.tasks.push((op, Loc { item, span: st.call.span })),
+                        None => {
+                            missing.get_or_insert(st.call.span);
+                            complete = false;
+                            break;
+                        }
                     }
-                    None => {}
                 }
+                if complete {
+                    nets.push(net);
+                }
+                // The next binding (odometer).
+                for k in (0..choice.len()).rev() {
+                    choice[k] += 1;
+                    if choice[k] < domains[k].len() {
+                        continue 'bindings;
+                    }
+                    choice[k] = 0;
+                }
+                break;
             }
-            net.orders = network_orders(&mut c, item, &h.network);
-            Some(net)
+            if nets.is_empty() && c.unsupported.is_empty() {
+                return Err(vec![Unsupported {
+                    loc: Loc { item, span: missing.unwrap_or(h.span) },
+                    what: "an `:htn` task with no ground instance (its arguments' types or static preconditions rule it out)".into(),
+                }]);
+            }
+            Some(nets)
         }
     };
 

@@ -337,6 +337,11 @@ fn method(m: &Method) -> MethodSchema {
     if let Some(gd) = &m.precondition {
         scope.condition(gd, true, &mut pre);
     }
+    // HDDL's `:constraints` constrain the parameters ((in)equalities): the
+    // instances that violate them are not instances of the method.
+    if let Some(gd) = &m.network.constraints {
+        scope.condition(gd, true, &mut pre);
+    }
     let task =
         m.task.as_ref().map(|c| (c.name.key.clone(), c.args.iter().map(|a| scope.term(a)).collect(), c.span));
     let subtasks = m
