@@ -139,6 +139,7 @@ fn failures_are_located() {
         ("unsupported-disjunction.pddl", Status::Refused, vec!["E0501"]),
         ("no-plan.pddl", Status::NoPlan, vec!["E0502", "I0505"]),
         ("abstract-flaw.hddl", Status::NoPlan, vec!["E0502", "I0506"]),
+        ("patrol-shorter-than-its-method.pddl", Status::NoPlan, vec!["E0502", "I0506"]),
     ];
     for (file, status, codes) in cases {
         let path = dir.join(file);
@@ -152,6 +153,13 @@ fn failures_are_located() {
             result.diagnostics.iter().all(|d| !d.range.is_empty()),
             "{file}: a diagnostic without a range"
         );
+        if file.starts_with("patrol-shorter") {
+            assert!(
+                result.diagnostics.iter().any(|d| d.message.contains("needs at least 25.020")),
+                "{file}: {:?}",
+                result.diagnostics
+            );
+        }
     }
 }
 

@@ -11,7 +11,7 @@ use serde_json::{Value, json};
 use super::heuristic::Heuristic;
 use super::plan::{GOAL, Kind, OpenOrigin, Plan, ThreatKind};
 use super::stn::{ORIGIN, Tp};
-use super::task::{Task, atom_of, is_neg};
+use super::task::{End, Task, atom_of, is_neg};
 use crate::db::{Db, lower_item};
 use crate::diagnostic::codes;
 use crate::model::ItemData;
@@ -419,10 +419,23 @@ pub fn flaws<'db>(db: &'db dyn Db, task: &Task<'db>, best: Option<&Plan>, h: &He
                 .unwrap_or_else(|| item_name_loc(db, task, op)),
             Some(_) => item_name_loc(db, task, op),
         };
-        let why = if task.ops[op as usize].methods.is_empty() {
-            "no method instance refines it"
-        } else {
-            "no method instance refines it consistently with the rest of the plan"
+        let o = &task.ops[op as usize];
+        // The shortest method instance, when even it cannot fit in the
+        // task's duration: no plan can refine the task anywhere.
+        let too_long = o.duration.and_then(|d| {
+            let spans = o.methods.iter().map(|&m| (m, min_span(task, m)));
+            let (m, span) = spans.min_by(|a, b| a.1.total_cmp(&b.1))?;
+            (span > d + 1e-9).then_some((m, span, d))
+        });
+        let why = match too_long {
+            _ if o.methods.is_empty() => "no method instance refines it".to_string(),
+            Some((m, span, d)) => format!(
+                "no method instance fits in its duration {}: the shortest, {}, needs at least {} (0.01 s between ordered subtasks)",
+                num(d),
+                task.methods[m as usize].name,
+                num(span)
+            ),
+            None => "no method instance refines it consistently with the rest of the plan".to_string(),
         };
         out.push(Lint::new(
             codes::PLAN_ABSTRACT_FLAW,
@@ -431,6 +444,43 @@ pub fn flaws<'db>(db: &'db dyn Db, task: &Task<'db>, best: Option<&Plan>, h: &He
         ));
     }
     out
+}
+
+/// The least time method instance `m` spans: its subtasks' durations along
+/// the longest chain of its orderings, a strict ordering separating its two
+/// happenings by ε (links between its subtasks can only add to it).
+fn min_span(task: &Task<'_>, m: u32) -> f64 {
+    let method = &task.methods[m as usize];
+    let n = method.subtasks.len();
+    let dur = |i: usize| {
+        let op = &task.ops[method.subtasks[i].1 as usize];
+        if op.instant { 0.0 } else { op.duration.unwrap_or(0.0) }
+    };
+    let node = |(i, e): (usize, End)| 2 * i + usize::from(e == End::End);
+    // Longest distances from the refined step's start (every subtask starts
+    // at or after it); the orderings are acyclic, so 2n rounds settle them.
+    let mut at = vec![0.0f64; 2 * n];
+    for _ in 0..2 * n {
+        let mut changed = false;
+        for i in 0..n {
+            if at[2 * i] + dur(i) > at[2 * i + 1] + 1e-12 {
+                at[2 * i + 1] = at[2 * i] + dur(i);
+                changed = true;
+            }
+        }
+        for o in &method.orders {
+            let (a, b) = (node(o.from), node(o.to));
+            let w = if o.strict { super::stn::EPS } else { 0.0 };
+            if at[a] + w > at[b] + 1e-12 {
+                at[b] = at[a] + w;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    at.iter().copied().fold(0.0, f64::max)
 }
 
 /// The name of an operator's declaration.
