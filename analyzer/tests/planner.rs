@@ -202,17 +202,22 @@ fn configurations_parse_like_the_papers() {
     assert!(Config::parse("bare").expect("bare").bare);
 }
 
-/// The IPC 2002 temporal Satellite problems the default configuration solves
-/// within a few seconds; each plan validates.
+/// Plans a fixture of `tests/planner` (domain and problem in one file) with
+/// the default configuration: it must be solved, and its plan valid.
+fn solve_fixture(file: &str) -> hipop_analyzer::planner::output::SolvedPlan {
+    let path = root().join("tests/planner").join(file);
+    let (mut host, result) = plan(&path, &path, &Config::default(), &limits(30));
+    assert_eq!(result.status, Status::Solved, "{file}: {:?}", result.diagnostics);
+    assert_valid(&mut host, &path, &result);
+    result.plan.expect("a plan")
+}
+
 /// Patrols (abstract actions) that do not declare where they leave their
 /// robot: a position link waits until the patrol before it is refined, so
 /// that its chain of moves starts where the patrol ends.
 #[test]
 fn patrols_that_leave_positions_undeclared_are_planned() {
-    let path = root().join("tests/planner/patrols-leave-positions-undeclared.pddl");
-    let (mut host, result) = plan(&path, &path, &Config::default(), &limits(30));
-    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
-    assert_valid(&mut host, &path, &result);
+    solve_fixture("patrols-leave-positions-undeclared.pddl");
 }
 
 /// A task without arguments that refines into itself after an action (PCP's
@@ -220,11 +225,7 @@ fn patrols_that_leave_positions_undeclared_are_planned() {
 /// from its methods, never from chains of moves (𝒜 is empty: pure HTN).
 #[test]
 fn recursive_tasks_are_refined_and_pure_htn_inserts_nothing() {
-    let path = root().join("tests/planner/recursive-task.hddl");
-    let (mut host, result) = plan(&path, &path, &Config::default(), &limits(30));
-    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
-    assert_valid(&mut host, &path, &result);
-    let plan = result.plan.as_ref().expect("a plan");
+    let plan = solve_fixture("recursive-task.hddl");
     assert_eq!(plan.root.len(), 1, "only the :htn task is a root:\n{}", plan.to_hierarchical("t"));
 }
 
@@ -232,11 +233,7 @@ fn recursive_tasks_are_refined_and_pure_htn_inserts_nothing() {
 /// (they restrict the method's instances), as IPC 2020 domains use them.
 #[test]
 fn htn_parameters_and_method_constraints_are_planned() {
-    let path = root().join("tests/planner/htn-parameters-and-method-constraints.hddl");
-    let (mut host, result) = plan(&path, &path, &Config::default(), &limits(30));
-    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
-    assert_valid(&mut host, &path, &result);
-    let plan = result.plan.as_ref().expect("a plan");
+    let plan = solve_fixture("htn-parameters-and-method-constraints.hddl");
     let root = &plan.steps[plan.root[0]];
     assert_eq!((root.name.as_str(), root.args.as_slice()), ("deliver", ["town".to_string()].as_slice()));
 }
@@ -260,6 +257,8 @@ fn surveillance_patrols_are_planned() {
     assert_valid(&mut host, &tmp, &result);
 }
 
+/// The IPC 2002 temporal Satellite problems the default configuration solves
+/// within a few seconds; each plan validates.
 #[test]
 fn satellite_corpus_plans_validate() {
     let Some(corpora) = corpora() else {

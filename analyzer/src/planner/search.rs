@@ -460,6 +460,13 @@ impl<'a, 'db> Search<'a, 'db> {
         if p.abstracts.is_empty() {
             return false;
         }
+        let pred = self.task.g.atoms.pred(atom_of(o.lit));
+        // The link's member, when it is a position (see below).
+        let group = if self.is_position_link(o.lit) {
+            self.task.motion_of(atom_of(o.lit)).map(|(_, g, _)| g)
+        } else {
+            None
+        };
         p.abstracts.iter().any(|&a| {
             let st = p.steps[a as usize];
             let Kind::Op(op) = st.kind else { return false };
@@ -468,7 +475,6 @@ impl<'a, 'db> Search<'a, 'db> {
             // name is not waited for. What it does not declare (a robot's
             // position along a round trip, everything for an HDDL task) only
             // its methods tell.
-            let pred = self.task.g.atoms.pred(atom_of(o.lit));
             if self.task.ops[op as usize].effs.iter().any(|e| self.task.g.atoms.pred(atom_of(e.lit)) == pred)
             {
                 return false;
@@ -477,11 +483,7 @@ impl<'a, 'db> Search<'a, 'db> {
             // member elsewhere: where that step leaves it is where the next
             // chain of moves starts (the last known position, 4.3.1).
             let may = self.h.may_add(op, o.lit)
-                || self.is_position_link(o.lit)
-                    && self
-                        .task
-                        .motion_of(atom_of(o.lit))
-                        .is_some_and(|(_, g, _)| self.moves_groups[op as usize].binary_search(&g).is_ok());
+                || group.is_some_and(|g| self.moves_groups[op as usize].binary_search(&g).is_ok());
             a != o.step && !p.descends(o.step, a) && !p.stn.before(o.need, st.start) && may
         })
     }

@@ -666,7 +666,8 @@ pub fn compile<'db>(
             let mut nets = Vec::new();
             let mut choice = vec![0usize; domains.len()];
             let mut missing = None;
-            'bindings: while count <= MAX_HTN_BINDINGS && domains.iter().all(|d| !d.is_empty()) {
+            // (No binding at all when a parameter's type has no object.)
+            'bindings: while (1..=MAX_HTN_BINDINGS).contains(&count) {
                 let b: Binding = h
                     .params
                     .iter()
