@@ -434,8 +434,11 @@ impl Plan {
 
     /// Adds the causal link `from —lit→ open` and its threats.
     pub fn add_link(&mut self, task: &Task<'_>, from: u32, from_tp: Tp, o: &Open) -> bool {
-        // The step's own start supporting its `over all` condition needs no ordering.
-        if from_tp != o.need && !self.stn.add(from_tp, o.need, EPS) {
+        // The step's own start supporting its `over all` condition needs no
+        // ordering. An abstract step's effect holds once the subtask that
+        // makes it has ended: the same happening as the step's end, no ε.
+        let sep = if o.origin == OpenOrigin::AbstractEffect { 0.0 } else { EPS };
+        if from_tp != o.need && !self.stn.add(from_tp, o.need, sep) {
             return false;
         }
         let link = Link { from, from_tp, to: o.step, need: o.need, until: o.until, lit: o.lit };

@@ -58,6 +58,9 @@ enum Flaw {
     Open(usize),
     Abstract(usize),
     Mutex(Tp, Tp),
+    /// A position link waiting for an abstract step that may move its
+    /// member and cannot overlap it: before it or after it.
+    Order(usize, u32),
 }
 
 pub struct Search<'a, 'db> {
@@ -404,6 +407,13 @@ impl<'a, 'db> Search<'a, 'db> {
         // abstract step that may come before them could (its subtasks are
         // not in the plan yet) wait for the abstract flaws.
         let ready: Vec<usize> = (0..p.open.len()).filter(|&i| !self.deferred(p, &p.open[i])).collect();
+        // Then where each robot's itinerary goes: a position link waiting
+        // for an abstract step it may come before or after (both are tried).
+        if ready.iter().all(|&i| self.is_position_link(p.open[i].lit))
+            && let Some(f) = self.order_flaw(p, &ready)
+        {
+            return Some(f);
+        }
         if !ready.is_empty() {
             let positions_last = self.has_motion;
             let candidates: Vec<usize> = {
@@ -414,6 +424,16 @@ impl<'a, 'db> Search<'a, 'db> {
                     .collect();
                 if non_pos.is_empty() { ready } else { non_pos }
             };
+            if positions_last && self.is_position_link(p.open[candidates[0]].lit) {
+                // Positions in chronological order: a robot's itinerary is
+                // built from its first destination on, each chain of moves
+                // starting where the one before ended.
+                let need = |i: usize| p.stn.est(p.open[i].need);
+                let first = candidates.iter().map(|&i| need(i)).fold(f64::INFINITY, f64::min);
+                return Some(Flaw::Open(
+                    self.costliest(p, candidates.iter().copied().filter(|&i| need(i) <= first)),
+                ));
+            }
             let pick = match self.config.flaws {
                 FlawOrder::ThreatFirst => *candidates.last().expect("non-empty"),
                 FlawOrder::Sorted => self.costliest(p, candidates.iter().copied()),
@@ -449,6 +469,42 @@ impl<'a, 'db> Search<'a, 'db> {
             return Some(Flaw::Abstract(i));
         }
         self.mutex(p)
+    }
+
+    /// A position link that waits for an abstract step it is not ordered
+    /// with, when that step cannot overlap the link (its conflicts name the
+    /// position): whether the link comes before or after the step is a
+    /// choice, made before any chain of moves is (a meeting in a window
+    /// must get its place in the robot's itinerary before the patrol that
+    /// the robot could do first takes its start from the initial position).
+    fn order_flaw(&self, p: &Plan, ready: &[usize]) -> Option<Flaw> {
+        if !self.has_motion || p.abstracts.is_empty() {
+            return None;
+        }
+        let mut best: Option<(f64, Flaw)> = None;
+        for (i, o) in p.open.iter().enumerate() {
+            if !self.is_position_link(o.lit) || ready.contains(&i) {
+                continue;
+            }
+            for &a in p.abstracts.iter() {
+                let st = p.steps[a as usize];
+                let Kind::Op(op) = st.kind else { continue };
+                let op = &self.task.ops[op as usize];
+                if a == o.step
+                    || p.descends(o.step, a)
+                    || p.stn.before(o.need, st.start)
+                    || p.stn.before(st.end, o.need)
+                    || !op.conflicts_with(self.task.g, atom_of(o.lit))
+                {
+                    continue;
+                }
+                let t = p.stn.est(o.need);
+                if best.as_ref().is_none_or(|(b, _)| t < *b) {
+                    best = Some((t, Flaw::Order(i, a)));
+                }
+            }
+        }
+        best.map(|(_, f)| f)
     }
 
     /// Whether an open link must wait: an unrefined abstract step that can
@@ -635,6 +691,15 @@ impl<'a, 'db> Search<'a, 'db> {
                     }
                 }
             }
+            Flaw::Order(i, a) => {
+                let (o, st) = (p.open[i], p.steps[a as usize]);
+                for (x, y) in [(o.until, st.start), (st.end, o.need)] {
+                    let mut c = p.clone();
+                    if c.stn.add(x, y, EPS) {
+                        out.push(c);
+                    }
+                }
+            }
             Flaw::Mutex(a, b) => {
                 for (x, y) in [(a, b), (b, a)] {
                     let mut c = p.clone();
@@ -650,14 +715,25 @@ impl<'a, 'db> Search<'a, 'db> {
         let o = p.open[i];
         let mut base = p.clone();
         base.remove_open(i);
-        // Causal links to existing steps.
+        // Causal links to existing steps. An abstract step's own effect is
+        // its method's to achieve: only the steps it holds support it.
+        // Another step would make a method that does not do what its
+        // abstract action says; a new one, a second patrol inserted for
+        // the first one's observations, at no cost in makespan when its
+        // robot is idle (an endless plateau of equal f).
         let mut prod = Vec::new();
         self.producers(p, &o, &mut prod);
+        if o.origin == OpenOrigin::AbstractEffect {
+            prod.retain(|&(s, _)| s != o.step && p.descends(s, o.step));
+        }
         for &(s, tp) in &prod {
             let mut c = base.clone();
             if c.add_link(self.task, s, tp, &o) {
                 out.push(c);
             }
+        }
+        if o.origin == OpenOrigin::AbstractEffect {
+            return;
         }
         // Chains of moves from the last known positions (4.3.2).
         let position = !is_neg(o.lit) && self.has_motion && self.task.motion_of(atom_of(o.lit)).is_some();
