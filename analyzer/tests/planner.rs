@@ -263,11 +263,15 @@ fn htn_parameters_and_method_constraints_are_planned() {
 
 /// The whole surveillance sample: 8 robots, patrols as abstract actions with
 /// two methods each, 25 observations and 6 meetings inside time windows.
+/// Within 20,000 plans: the orderings of meetings and patrols that a time
+/// window forces are taken without branching (2,107 plans; 59,924 when each
+/// was a choice).
 #[test]
 fn surveillance_mission_is_planned() {
     let dir = root().join("samples/surveillance");
     let problem = dir.join("problem.pddl");
-    let (mut host, result) = plan(&dir.join("domain.pddl"), &problem, &Config::default(), &limits(120));
+    let nodes = PlannerLimits { nodes: Some(20_000), ..limits(120) };
+    let (mut host, result) = plan(&dir.join("domain.pddl"), &problem, &Config::default(), &nodes);
     assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
     assert!(result.plan.as_ref().is_some_and(|p| p.is_hierarchical()));
     assert_valid(&mut host, &problem, &result);

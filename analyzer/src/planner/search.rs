@@ -63,6 +63,16 @@ enum Flaw {
     Order(usize, u32),
 }
 
+/// What the itinerary stage of flaw selection found.
+enum OrderChoice {
+    /// An ordering to choose, both ways consistent.
+    Choose(Flaw),
+    /// Orderings with one consistent way were added: select again.
+    Forced,
+    /// An ordering with no consistent way: the plan is dead.
+    Dead(Flaw),
+}
+
 pub struct Search<'a, 'db> {
     pub task: &'a Task<'db>,
     pub h: &'a Heuristic,
@@ -409,10 +419,13 @@ impl<'a, 'db> Search<'a, 'db> {
         let ready: Vec<usize> = (0..p.open.len()).filter(|&i| !self.deferred(p, &p.open[i])).collect();
         // Then where each robot's itinerary goes: a position link waiting
         // for an abstract step it may come before or after (both are tried).
-        if ready.iter().all(|&i| self.is_position_link(p.open[i].lit))
-            && let Some(f) = self.order_flaw(p, &ready)
-        {
-            return Some(f);
+        if ready.iter().all(|&i| self.is_position_link(p.open[i].lit)) {
+            match self.order_flaw(p, &ready) {
+                Some(OrderChoice::Choose(f) | OrderChoice::Dead(f)) => return Some(f),
+                // Orderings forced since may have made links ready.
+                Some(OrderChoice::Forced) => return self.select(p),
+                None => {}
+            }
         }
         if !ready.is_empty() {
             let positions_last = self.has_motion;
@@ -477,16 +490,19 @@ impl<'a, 'db> Search<'a, 'db> {
     /// choice, made before any chain of moves is (a meeting in a window
     /// must get its place in the robot's itinerary before the patrol that
     /// the robot could do first takes its start from the initial position).
-    fn order_flaw(&self, p: &Plan, ready: &[usize]) -> Option<Flaw> {
+    fn order_flaw(&self, p: &mut Plan, ready: &[usize]) -> Option<OrderChoice> {
         if !self.has_motion || p.abstracts.is_empty() {
             return None;
         }
         let mut best: Option<(f64, Flaw)> = None;
-        for (i, o) in p.open.iter().enumerate() {
+        let mut forced = false;
+        for i in 0..p.open.len() {
+            let o = p.open[i];
             if !self.is_position_link(o.lit) || ready.contains(&i) {
                 continue;
             }
-            for &a in p.abstracts.iter() {
+            for k in 0..p.abstracts.len() {
+                let a = p.abstracts[k];
                 let st = p.steps[a as usize];
                 let Kind::Op(op) = st.kind else { continue };
                 let op = &self.task.ops[op as usize];
@@ -498,13 +514,28 @@ impl<'a, 'db> Search<'a, 'db> {
                 {
                     continue;
                 }
-                let t = p.stn.est(o.need);
-                if best.as_ref().is_none_or(|(b, _)| t < *b) {
-                    best = Some((t, Flaw::Order(i, a)));
+                // One way only (a time window, say): taken in place, no choice.
+                let mut first = p.stn.clone();
+                let ok1 = first.add(o.until, st.start, EPS);
+                let mut second = p.stn.clone();
+                let ok2 = second.add(st.end, o.need, EPS);
+                match (ok1, ok2) {
+                    (false, false) => return Some(OrderChoice::Dead(Flaw::Order(i, a))),
+                    (true, false) => (p.stn, forced) = (first, true),
+                    (false, true) => (p.stn, forced) = (second, true),
+                    (true, true) => {
+                        let t = p.stn.est(o.need);
+                        if best.as_ref().is_none_or(|(b, _)| t < *b) {
+                            best = Some((t, Flaw::Order(i, a)));
+                        }
+                    }
                 }
             }
         }
-        best.map(|(_, f)| f)
+        if forced {
+            return Some(OrderChoice::Forced);
+        }
+        best.map(|(_, f)| OrderChoice::Choose(f))
     }
 
     /// Whether an open link must wait: an unrefined abstract step that can
