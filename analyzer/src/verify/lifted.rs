@@ -3,8 +3,10 @@
 //! delete lists, equality constraints, a duration, conflicts, and subtasks.
 //!
 //! Durative actions are flattened the way the paper's definitions read them:
-//! `Pre` is every condition (`at start`, `over all`, `at end`), `Add` and `Del`
-//! every effect of either end. What does not fit that view (disjunctions,
+//! `Pre` is every condition (`at start`, `over all`, `at end`) but those the
+//! action's own start may make true in some instance (relaxed reachability
+//! must not ask for them before it starts), `Add` and `Del` every effect of
+//! either end. What does not fit that view (disjunctions,
 //! quantifiers, conditional or numeric effects, object-fluent terms) is listed
 //! in [`Operator::unsupported`], so that each check can decide whether its
 //! conclusion still holds; numeric conditions are kept apart because grounding
@@ -17,7 +19,7 @@ use rowan::TextRange;
 use crate::db::{Db, Item, Section, lower_item};
 use crate::model::{
     Action, ActionKind, Atom, CmpOp, ConflictsForm, Effect, Gd, ItemData, Method, NumExpr, Str, Task, Term,
-    Typed,
+    TimeSpec, Typed,
 };
 use crate::semantics::check::gd_span;
 use crate::semantics::symbols::type_set;
@@ -272,6 +274,73 @@ fn duration(gd: Option<&Gd>) -> Duration {
     }
 }
 
+/// Leaves out of `pre` the conditions the operator's own start makes true:
+/// an `over all` or `at end` condition on an atom its start adds (or, under
+/// a `not`, deletes) needs nothing before the operator starts, and `Pre` is
+/// what must hold for it to run (relaxed reachability, Definition 12).
+fn drop_own_start_support(scope: &mut Scope, cond: Option<&Gd>, eff: Option<&Effect>, pre: &mut Conditions) {
+    let (mut adds, mut dels) = (Vec::new(), Vec::new());
+    if let Some(e) = eff {
+        start_effects(scope, e, false, &mut adds, &mut dels);
+    }
+    if adds.is_empty() && dels.is_empty() {
+        return;
+    }
+    let mut at_start = Conditions::default();
+    if let Some(g) = cond {
+        start_conditions(scope, g, true, true, &mut at_start);
+    }
+    // A condition goes when some instance of the operator may make it true
+    // at its start: an effect of the same predicate whose arguments can be
+    // equal (`(p ?x1)` over all and `(p ?x0)` at start meet when `?x0` is
+    // `?x1`). It stays when the start needs it too.
+    let same = |a: &LAtom, b: &LAtom| a.pred == b.pred && a.args == b.args;
+    pre.pos.retain(|a| !adds.iter().any(|x| may_meet(x, a)) || at_start.pos.iter().any(|x| same(x, a)));
+    pre.neg.retain(|a| !dels.iter().any(|x| may_meet(x, a)) || at_start.neg.iter().any(|x| same(x, a)));
+}
+
+/// Whether two atoms of an operator can be the same atom in some instance:
+/// same predicate, and argument by argument two different constants never.
+fn may_meet(a: &LAtom, b: &LAtom) -> bool {
+    a.pred == b.pred
+        && a.args.len() == b.args.len()
+        && a.args.iter().zip(&b.args).all(|(x, y)| match (x, y) {
+            (LTerm::Const(c), LTerm::Const(d)) => c == d,
+            _ => true,
+        })
+}
+
+/// The atoms an effect adds and deletes `at start`.
+fn start_effects(
+    scope: &mut Scope,
+    e: &Effect,
+    at_start: bool,
+    adds: &mut Vec<LAtom>,
+    dels: &mut Vec<LAtom>,
+) {
+    match e {
+        Effect::And(es, _) => es.iter().for_each(|e| start_effects(scope, e, at_start, adds, dels)),
+        Effect::Timed(spec, e, _) => start_effects(scope, e, *spec == TimeSpec::AtStart, adds, dels),
+        Effect::Add(a) if at_start => adds.push(scope.atom(a)),
+        Effect::Del(a, _) if at_start => dels.push(scope.atom(a)),
+        _ => {}
+    }
+}
+
+/// The conditions needed at the start (untimed ones count as such).
+fn start_conditions(scope: &mut Scope, gd: &Gd, at_start: bool, positive: bool, out: &mut Conditions) {
+    match gd {
+        Gd::And(gs, _) if positive => gs.iter().for_each(|g| start_conditions(scope, g, at_start, true, out)),
+        Gd::Timed(spec, g, _) => start_conditions(scope, g, *spec == TimeSpec::AtStart, positive, out),
+        Gd::Not(g, _) => start_conditions(scope, g, at_start, !positive, out),
+        Gd::Atom(a) if at_start => {
+            let a = scope.atom(a);
+            if positive { out.pos.push(a) } else { out.neg.push(a) }
+        }
+        _ => {}
+    }
+}
+
 fn action_operator(a: &Action) -> Operator {
     let params = params(&a.params);
     let mut scope = Scope { params: &params, unsupported: Vec::new() };
@@ -282,6 +351,11 @@ fn action_operator(a: &Action) -> Operator {
     let (mut add, mut del) = (Vec::new(), Vec::new());
     if let Some(e) = &a.effect {
         scope.effect(e, &mut add, &mut del);
+    }
+    if a.kind != ActionKind::Action {
+        let unsupported = scope.unsupported.len();
+        drop_own_start_support(&mut scope, a.precondition.as_ref(), a.effect.as_ref(), &mut pre);
+        scope.unsupported.truncate(unsupported);
     }
     let unsupported = scope.unsupported;
     Operator {
@@ -309,6 +383,9 @@ fn task_operator(t: &Task) -> Operator {
     if let Some(e) = &t.effect {
         scope.effect(e, &mut add, &mut del);
     }
+    let unsupported = scope.unsupported.len();
+    drop_own_start_support(&mut scope, t.precondition.as_ref(), t.effect.as_ref(), &mut pre);
+    scope.unsupported.truncate(unsupported);
     let conflicts = t.conflicts.as_ref().map(|c| LConflicts {
         atoms: c.atoms.iter().map(|a| scope.atom(a)).collect(),
         keyword: c.keyword,

@@ -1,6 +1,8 @@
 ; Companion of over-all-supported-by-own-start.pddl (analyzer/tests/planner_props.rs).
 ; expect: solved
-; bug: condition-supported-by-own-start (reported; `regressions` skips this fixture, `known_bugs` runs it)
+; fixed: the STRIPS view leaves out of `Pre` what the action's own start makes
+; true (verify/lifted.rs), so relaxed reachability reaches the goal; the
+; description below is of the bug.
 ;
 ; `a0` adds `p1` at its start and needs it at its end: `0.000: (a0) [1.000]`
 ; is valid.
