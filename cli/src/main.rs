@@ -103,7 +103,10 @@ struct PlanArgs {
     /// The planner configuration, named like the paper's: dash-separated
     /// parts among `AR` (advance reuse) or `R` (reuse), `time`, `local`,
     /// `sorted` or `threatFirst` (open-link order), `motion` or `ncm`
-    /// (geometric reasoning), `bare` (ignore abstract actions).
+    /// (geometric reasoning), `eager` (every threat as soon as it appears),
+    /// `nolookahead` (A* without the greedy completion), `bare` (ignore
+    /// abstract actions). `AR-time-local-motion-eager-nolookahead` is the
+    /// paper's search (docs/planner.md).
     #[arg(long, value_name = "NAME", default_value = hipop_analyzer::planner::Config::DEFAULT, value_parser = plan::parse_config)]
     config: hipop_analyzer::planner::Config,
     /// Stop after this many seconds.

@@ -5,7 +5,8 @@
 //! - [`task`]: the planning task compiled from the ground model (timed
 //!   conditions and effects, method instances, 𝒜, timed literals, the
 //!   `:htn`), and what the planner does not support, located.
-//! - [`motion`]: position families and shortest chains of moves (4.3).
+//! - [`motion`]: position families and shortest chains of moves (4.3);
+//!   [`itinerary`]: each member's visits in sequence, with the moves between.
 //! - [`heuristic`]: h_add and refinement estimates (4.2.3).
 //! - [`stn`], [`pvec`]: the temporal network and the persistent vectors that
 //!   make child plans cheap.
@@ -17,6 +18,7 @@
 //! progress callback; nothing here does I/O.
 
 pub mod heuristic;
+pub mod itinerary;
 pub mod motion;
 pub mod output;
 pub mod plan;
@@ -75,6 +77,14 @@ pub struct Config {
     pub motion: Motion,
     /// `bare`: ignore abstract actions (POP planning).
     pub bare: bool,
+    /// `eager`: solve every threat first, as soon as it appears (the
+    /// paper's order). Without it, a threat that both orderings still solve
+    /// waits until the open links are solved.
+    pub eager: bool,
+    /// The greedy completion (lookahead) of plans that reach their
+    /// completion, and of the plan at hand after 1024, 2048… expansions;
+    /// `nolookahead` turns it off (A* alone, as in the paper).
+    pub lookahead: bool,
 }
 
 impl Default for Config {
@@ -87,21 +97,36 @@ impl Config {
     /// The default configuration (the one the benchmarks show best).
     pub const DEFAULT: &'static str = "AR-time-local-motion";
 
-    /// The configurations the benchmarks compare.
-    pub const MAIN: &'static [&'static str] =
-        &["AR-time-local-motion", "AR-time-local-ncm", "R-time-local", "time-threatFirst", "bare"];
+    /// The configurations the benchmarks compare: the paper's, the default
+    /// without hipop's additions to the search (`eager`, `nolookahead`),
+    /// and `bare`.
+    pub const MAIN: &'static [&'static str] = &[
+        "AR-time-local-motion",
+        "AR-time-local-ncm",
+        "R-time-local",
+        "time-threatFirst",
+        "AR-time-local-motion-eager-nolookahead",
+        "bare",
+    ];
 
     /// Parses a name: dash-separated parts among `AR`/`R` (plan heuristic,
     /// h_add without), `time` (the objective, always the makespan),
     /// `local`/`sorted`/`threatFirst` (open links; `local` without),
-    /// `motion`/`ncm` (geometric reasoning; none without), `bare`. `bare`
-    /// alone is the default configuration without abstract actions.
+    /// `motion`/`ncm` (geometric reasoning; none without), `eager` (every
+    /// threat first), `nolookahead` (no greedy completion), `bare`. `bare` alone is the default configuration
+    /// without abstract actions.
     pub fn parse(name: &str) -> Result<Config, String> {
         if name.eq_ignore_ascii_case("bare") {
             return Ok(Config { bare: true, ..Config::parse(Config::DEFAULT)? });
         }
-        let mut c =
-            Config { plan_h: PlanHeuristic::Add, flaws: FlawOrder::Local, motion: Motion::Off, bare: false };
+        let mut c = Config {
+            plan_h: PlanHeuristic::Add,
+            flaws: FlawOrder::Local,
+            motion: Motion::Off,
+            bare: false,
+            eager: false,
+            lookahead: true,
+        };
         for part in name.split('-').filter(|p| !p.is_empty()) {
             match part.to_ascii_lowercase().as_str() {
                 "hipop" => {}
@@ -114,9 +139,11 @@ impl Config {
                 "motion" => c.motion = Motion::Motion,
                 "ncm" => c.motion = Motion::Ncm,
                 "bare" => c.bare = true,
+                "eager" => c.eager = true,
+                "nolookahead" => c.lookahead = false,
                 other => {
                     return Err(format!(
-                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, bare)"
+                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, bare)"
                     ));
                 }
             }
@@ -144,6 +171,12 @@ impl Config {
             Motion::Motion => parts.push("motion"),
             Motion::Ncm => parts.push("ncm"),
             Motion::Off => {}
+        }
+        if self.eager {
+            parts.push("eager");
+        }
+        if !self.lookahead {
+            parts.push("nolookahead");
         }
         parts.join("-")
     }

@@ -10,6 +10,7 @@
 use std::rc::Rc;
 
 use super::heuristic::Heuristic;
+use super::itinerary::Tail;
 use super::pvec::PVec;
 use super::stn::{EPS, ORIGIN, Stn, Tp};
 use super::task::{End, Lit, Task, atom_of, is_neg, negate};
@@ -116,6 +117,8 @@ pub struct Plan {
     pub goal_tp: Tp,
     /// Counter for [`Step::born`].
     pub clock: u32,
+    /// Where each itinerary stands (geometric reasoning, [`super::itinerary`]).
+    pub tails: Rc<Vec<Tail>>,
 }
 
 pub const INIT: u32 = 0;
@@ -135,6 +138,7 @@ impl Plan {
             abstracts: Rc::new(Vec::new()),
             goal_tp,
             clock: 0,
+            tails: Rc::new(Vec::new()),
         };
         p.steps.push(Step {
             kind: Kind::Init,
@@ -363,11 +367,6 @@ impl Plan {
                 after_start: over_all,
             });
         }
-        for o in &opens {
-            if !self.position_bound(task, o) {
-                return None;
-            }
-        }
         if !opens.is_empty() {
             Rc::make_mut(&mut self.open).extend(opens);
         }
@@ -379,57 +378,8 @@ impl Plan {
     }
 
     /// Adds an open link of another origin (goal, method precondition, abstract effect).
-    pub fn add_open(&mut self, task: &Task<'_>, o: Open) -> bool {
-        if !self.position_bound(task, &o) {
-            return false;
-        }
+    pub fn add_open(&mut self, o: Open) {
         Rc::make_mut(&mut self.open).push(o);
-        true
-    }
-
-    /// Section 4.3.2, "adding temporal constraints": an open link to a
-    /// position cannot be reached sooner than the shortest chain of moves
-    /// from the last position known to be before it.
-    fn position_bound(&mut self, task: &Task<'_>, o: &Open) -> bool {
-        if is_neg(o.lit) {
-            return true;
-        }
-        let Some((m, group, to)) = task.motion_of(atom_of(o.lit)) else { return true };
-        let mut best: Option<(Tp, u32)> = None;
-        for (s, step) in self.steps.iter().enumerate() {
-            if s as u32 == o.step {
-                continue;
-            }
-            for (l, tp) in self.effects(task, s as u32) {
-                if is_neg(l) {
-                    continue;
-                }
-                let Some((g2, pos)) = task.family[atom_of(l) as usize] else { continue };
-                if g2 != group || !(tp == ORIGIN || self.stn.before(tp, o.need)) {
-                    continue;
-                }
-                if best.is_none_or(|(b, _)| self.stn.before(b, tp)) {
-                    best = Some((tp, pos));
-                }
-            }
-            let _ = step;
-        }
-        if best.is_none()
-            && let Some(&a) = m.positions.iter().find(|&&a| task.init[a as usize])
-            && let Some((_, p)) = task.family[a as usize]
-        {
-            best = Some((ORIGIN, p));
-        }
-        match best {
-            Some((tp, from)) => {
-                let d = m.dist(from as usize, to as usize);
-                if !d.is_finite() {
-                    return false;
-                }
-                d == 0.0 || self.stn.add(tp, o.need, d)
-            }
-            None => true,
-        }
     }
 
     /// Adds the causal link `from —lit→ open` and its threats.

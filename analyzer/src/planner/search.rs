@@ -21,15 +21,30 @@ use std::collections::BinaryHeap;
 use std::time::Instant;
 
 use super::heuristic::Heuristic;
+use super::itinerary::{Geo, Pending};
 use super::plan::{GOAL, INIT, Kind, Open, OpenOrigin, Plan, Threat, ThreatKind};
 use super::stn::{EPS, ORIGIN, Tp};
-use super::task::{End, Lit, Task, atom_of, is_neg};
+use super::task::{Lit, Task, atom_of, is_neg};
 use super::{Config, FlawOrder, LimitKind, Motion, PlanHeuristic, PlannerLimits, Progress, Stats};
+
+/// What a unit of work costs in `g` beyond the makespan: every step costs
+/// something, so that no chain of steps is free (a step that fits in
+/// parallel does not lengthen the makespan, and reuse makes its conditions
+/// free in `h`): A* needs positive costs to leave an endless subtree of
+/// such plans (`tests/planner/props/step-cost.pddl`). Small, so that the
+/// makespan decides: measured neutral on the benchmarks' makespans.
+const STEP_COST: f64 = 0.02;
 
 /// A plan in the open list.
 struct Node {
     f: f64,
+    /// Its lineage had a greedy completion already.
+    probed: bool,
     effort: f64,
+    /// Steps: a smaller plan first among equals (a chain of steps that
+    /// cost nothing, parallel in the makespan and free in h by reuse,
+    /// must not hide the sibling that links to a step already there).
+    size: usize,
     id: u64,
     plan: Plan,
 }
@@ -48,7 +63,12 @@ impl PartialOrd for Node {
 impl Ord for Node {
     /// The best node is the greatest (BinaryHeap is a max-heap).
     fn cmp(&self, other: &Self) -> Ordering {
-        other.f.total_cmp(&self.f).then(other.effort.total_cmp(&self.effort)).then(self.id.cmp(&other.id))
+        other
+            .f
+            .total_cmp(&self.f)
+            .then(other.effort.total_cmp(&self.effort))
+            .then(other.size.cmp(&self.size))
+            .then(self.id.cmp(&other.id))
     }
 }
 
@@ -58,31 +78,20 @@ enum Flaw {
     Open(usize),
     Abstract(usize),
     Mutex(Tp, Tp),
-    /// A position link waiting for an abstract step that may move its
-    /// member and cannot overlap it: before it or after it.
-    Order(usize, u32),
-}
-
-/// What the itinerary stage of flaw selection found.
-enum OrderChoice {
-    /// An ordering to choose, both ways consistent.
-    Choose(Flaw),
-    /// Orderings with one consistent way were added: select again.
-    Forced,
-    /// An ordering with no consistent way: the plan is dead.
-    Dead(Flaw),
+    /// The next visit of an itinerary (geometric reasoning).
+    Visit(Pending),
+    /// A flaw no resolver can solve (a threat with no ordering left, an
+    /// itinerary that cannot go on): the plan has no child.
+    Dead,
 }
 
 pub struct Search<'a, 'db> {
     pub task: &'a Task<'db>,
     pub h: &'a Heuristic,
     pub config: &'a Config,
-    pub has_motion: bool,
-    /// Whether some operator names its agents (the load estimate).
-    pub has_agents: bool,
-    /// Per abstract operator, the motion groups (members of a position
-    /// family with move actions) its refinements may move (sorted).
-    moves_groups: Vec<Vec<u32>>,
+    /// Geometric reasoning: the itineraries of the members of position
+    /// families with move actions in 𝒜 (`motion`, `ncm`).
+    geo: Option<Geo>,
     /// Method instances not tried because they only go round a loop.
     loops: std::cell::Cell<u64>,
 }
@@ -97,25 +106,39 @@ pub enum End2 {
 impl<'a, 'db> Search<'a, 'db> {
     pub fn new(task: &'a Task<'db>, h: &'a Heuristic, config: &'a Config) -> Self {
         let has_motion = config.motion != Motion::Off && task.motion.iter().any(|m| m.is_some());
-        let has_agents = task.ops.iter().any(|o| !o.agents.is_empty());
-        let moves_groups = task
-            .ops
-            .iter()
-            .enumerate()
-            .map(|(op, o)| {
-                if !has_motion || !o.is_abstract {
-                    return Vec::new();
+        let geo = has_motion.then(|| Geo::new(task, h));
+        Search { task, h, config, geo, loops: Default::default() }
+    }
+
+    /// Adds a step (its open links bounded by their itineraries).
+    fn add_step(&self, p: &mut Plan, op: u32, parent: Option<u32>) -> Option<u32> {
+        let before = p.open.len();
+        let s = p.add_step(self.task, self.h, op, parent)?;
+        if let Some(geo) = &self.geo {
+            for k in before..p.open.len() {
+                let o = p.open[k];
+                if !geo.bound(self.task, p, &o) {
+                    return None;
                 }
-                (0..task.motion.len() as u32)
-                    .filter(|&g| {
-                        task.motion[g as usize].as_ref().is_some_and(|m| {
-                            m.positions.iter().any(|&a| h.may_add(op as u32, super::task::lit(a, false)))
-                        })
-                    })
-                    .collect()
-            })
-            .collect();
-        Search { task, h, config, has_motion, has_agents, moves_groups, loops: Default::default() }
+            }
+        }
+        Some(s)
+    }
+
+    /// Adds an open link of another origin (bounded by its itinerary).
+    fn add_open(&self, p: &mut Plan, o: Open) -> bool {
+        if let Some(geo) = &self.geo
+            && !geo.bound(self.task, p, &o)
+        {
+            return false;
+        }
+        p.add_open(o);
+        true
+    }
+
+    /// Whether an open link is a visit of an itinerary.
+    fn is_visit(&self, o: &Open) -> bool {
+        self.geo.is_some() && Geo::position(self.task, o.lit).is_some()
     }
 
     /// The initial plans: init, goal, timed literals, the goal's open links,
@@ -123,6 +146,9 @@ impl<'a, 'db> Search<'a, 'db> {
     /// initial task network (the bindings of the `:htn` parameters).
     pub fn initial(&self) -> Vec<Plan> {
         let Some(mut p) = Plan::initial(self.task) else { return Vec::new() };
+        if let Some(geo) = &self.geo {
+            p.tails = std::rc::Rc::new(geo.initial_tails(self.task));
+        }
         for (i, &(l, _)) in self.task.goals.iter().enumerate() {
             let o = Open {
                 step: GOAL,
@@ -133,7 +159,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 origin: OpenOrigin::Goal(i as u32),
                 after_start: false,
             };
-            if !p.add_open(self.task, o) {
+            if !self.add_open(&mut p, o) {
                 return Vec::new();
             }
         }
@@ -143,7 +169,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 let mut p = p.clone();
                 let mut ids = Vec::new();
                 for &(op, _) in &net.tasks {
-                    ids.push(p.add_step(self.task, self.h, op, None)?);
+                    ids.push(self.add_step(&mut p, op, None)?);
                 }
                 for o in &net.orders {
                     let a = p.steps[ids[o.from.0] as usize].tp(o.from.1);
@@ -155,10 +181,6 @@ impl<'a, 'db> Search<'a, 'db> {
                 Some(p)
             })
             .collect()
-    }
-
-    fn is_position_link(&self, l: Lit) -> bool {
-        self.has_motion && !is_neg(l) && self.task.motion_of(atom_of(l)).is_some()
     }
 
     /// Producers of a literal that could come before `need` and that are
@@ -207,9 +229,20 @@ impl<'a, 'db> Search<'a, 'db> {
         let (mut h, mut effort) = (0.0, 0.0);
         let index = EffectIndex::new(self.task, p);
         for o in p.open.iter() {
+            if self.is_visit(o) {
+                effort += 1.0;
+                continue;
+            }
             let (c, e) = self.open_cost(p, o, &index);
             h += c;
             effort += e;
+        }
+        if let Some(geo) = &self.geo
+            && self.config.motion == Motion::Motion
+        {
+            // Equation 2: each visit costs the travel from its possible
+            // last known positions (Equation 3, `ncm`: nothing).
+            h += geo.travel(self.task, p, &geo.pending(self.task, p)).min(1e9);
         }
         for &a in p.abstracts.iter() {
             if let Kind::Op(op) = p.steps[a as usize].kind {
@@ -227,34 +260,6 @@ impl<'a, 'db> Search<'a, 'db> {
 
     fn open_cost(&self, p: &Plan, o: &Open, index: &EffectIndex) -> (f64, f64) {
         let base = (self.h.lit_cost(o.lit).min(1e6), self.h.lit_effort(o.lit).min(1e6));
-        if !is_neg(o.lit)
-            && self.config.motion != Motion::Off
-            && let Some((m, group, to)) = self.task.motion_of(atom_of(o.lit))
-        {
-            if self.config.motion == Motion::Ncm {
-                return (0.0, 1.0);
-            }
-            // Equation 2: the shortest chain of moves from a last known position.
-            let mut best = f64::INFINITY;
-            let mut any = false;
-            for &(from, tp) in index.positions(group) {
-                if tp == o.need || p.stn.before(o.need, tp) {
-                    continue;
-                }
-                any = true;
-                best = best.min(m.dist(from as usize, to as usize));
-            }
-            if let Some(&a) = m.positions.iter().find(|&&a| self.task.init[a as usize])
-                && let Some((_, from)) = self.task.family[a as usize]
-            {
-                any = true;
-                best = best.min(m.dist(from as usize, to as usize));
-            }
-            if any {
-                return (best.min(1e6), if best == 0.0 { 0.0 } else { 1.0 });
-            }
-            return base;
-        }
         match self.config.plan_h {
             PlanHeuristic::Add => base,
             PlanHeuristic::Reuse => {
@@ -269,9 +274,15 @@ impl<'a, 'db> Search<'a, 'db> {
             PlanHeuristic::AdvanceReuse => {
                 // Equation 1: a producer that can be before, and every step
                 // deleting the literal ordered with it.
+                // (A deletion at or after the need, the consumer's own
+                // included, cannot come between the producer and the need.)
                 let deleters = index.of(o.lit ^ 1);
-                let ordered =
-                    |e: Tp| e == ORIGIN || deleters.iter().all(|&d| p.stn.before(d, e) || p.stn.before(e, d));
+                let ordered = |e: Tp| {
+                    e == ORIGIN
+                        || deleters.iter().all(|&d| {
+                            d == o.need || p.stn.before(o.need, d) || p.stn.before(d, e) || p.stn.before(e, d)
+                        })
+                };
                 if self.task.holds_initially(o.lit) && o.step != INIT && ordered(ORIGIN) {
                     return (0.0, 0.0);
                 }
@@ -334,21 +345,22 @@ impl<'a, 'db> Search<'a, 'db> {
         Some(penalty.max(0.0))
     }
 
-    /// The busiest agent's work: the sum of the durations of the steps it
-    /// takes part in (`:agent`), an abstract step with a duration counting
-    /// for the subtasks it holds. A robot of a mission does one thing at a
-    /// time, so the plan cannot be shorter; it is what makes the search
-    /// share the work among the robots instead of piling it on one while
-    /// the makespan of the partial plan does not show it yet.
-    fn load(&self, p: &Plan) -> f64 {
-        if !self.has_agents {
-            return 0.0;
-        }
+    /// The busiest agent's work, and the whole plan's. An agent's work is
+    /// the sum of the durations of the steps it takes part in (`:agent`), an
+    /// abstract step with a duration counting for the subtasks it holds. A
+    /// robot of a mission does one thing at a time, so the plan cannot be
+    /// shorter; it is what makes the search share the work among the robots
+    /// instead of piling it on one while the makespan of the partial plan
+    /// does not show it yet. The whole plan's work is the same sum over
+    /// every primitive step (or abstract step with a duration), agents or
+    /// not, each step counting ε more.
+    fn work(&self, p: &Plan) -> (f64, f64) {
         let mut load: rustc_hash::FxHashMap<u32, f64> = rustc_hash::FxHashMap::default();
+        let mut total = 0.0;
         for s in p.steps.iter() {
             let Kind::Op(o) = s.kind else { continue };
             let op = &self.task.ops[o as usize];
-            if op.agents.is_empty() || op.is_abstract && op.duration.is_none() {
+            if op.is_abstract && op.duration.is_none() {
                 continue;
             }
             let mut up = s.parent;
@@ -364,178 +376,133 @@ impl<'a, 'db> Search<'a, 'db> {
                 continue;
             }
             let d = op.duration.unwrap_or(0.0) + EPS;
+            total += d;
             for &a in &op.agents {
                 *load.entry(a).or_insert(0.0) += d;
             }
         }
-        load.values().copied().fold(0.0, f64::max)
+        (load.values().copied().fold(0.0, f64::max), total)
     }
 
-    /// Picks the flaw to solve, dropping threats that orderings solved since.
+    /// Picks the flaw to solve (section 4.2.3): threats that have one
+    /// ordering left are solved in place (and one with none ends the plan);
+    /// then open links (positions last: the itineraries), then the threats
+    /// that both orderings still solve (delayed: later choices often order
+    /// them, or leave one way only), then abstract flaws in chronological
+    /// order, then interfering happenings.
     fn select(&self, p: &mut Plan) -> Option<Flaw> {
-        // Threats: those with one consistent resolver are solved in place
-        // (no choice to make), one with none kills the plan, and among the
-        // others the last found is chosen.
-        let mut i = p.threats.len();
-        let mut choice = None;
-        while i > 0 {
-            i -= 1;
-            let t = p.threats[i];
-            if !p.still_threat(self.task, &t) {
-                std::rc::Rc::make_mut(&mut p.threats).remove(i);
-                choice = choice.map(|c: usize| if c > i { c - 1 } else { c });
-                continue;
-            }
-            let [(a1, b1), (a2, b2)] = self.threat_orders(p, &t);
-            let mut first = p.stn.clone();
-            let ok1 = first.add(a1, b1, EPS);
-            let mut second = p.stn.clone();
-            let ok2 = second.add(a2, b2, EPS);
-            match (ok1, ok2) {
-                (false, false) => return Some(Flaw::Threat(i)),
-                (true, false) | (false, true) => {
-                    p.stn = if ok1 { first } else { second };
-                    std::rc::Rc::make_mut(&mut p.threats).remove(i);
-                    choice = choice.map(|c: usize| if c > i { c - 1 } else { c });
+        let task = self.task;
+        if p.threats.iter().any(|t| !p.still_threat(task, t)) {
+            let keep: Vec<Threat> = p.threats.iter().copied().filter(|t| p.still_threat(task, t)).collect();
+            p.threats = std::rc::Rc::new(keep);
+        }
+        if self.config.eager && !p.threats.is_empty() {
+            return self.threat_flaw(p);
+        }
+        let pending = match &self.geo {
+            Some(geo) => {
+                let pending = geo.pending(task, p);
+                if !geo.unblock(task, p, &pending) {
+                    return Some(Flaw::Dead);
                 }
-                (true, true) => {
-                    if choice.is_none() {
-                        choice = Some(i);
-                    }
-                }
+                pending
             }
-        }
-        if let Some(c) = choice {
-            // Orderings forced since may have solved it.
-            if p.still_threat(self.task, &p.threats[c]) {
-                return Some(Flaw::Threat(c));
-            }
-            std::rc::Rc::make_mut(&mut p.threats).remove(c);
-            return self.select(p);
-        }
-        // Open links that nothing can support yet while an unrefined
-        // abstract step that may come before them could (its subtasks are
-        // not in the plan yet) wait for the abstract flaws.
-        let ready: Vec<usize> = (0..p.open.len()).filter(|&i| !self.deferred(p, &p.open[i])).collect();
-        // Then where each robot's itinerary goes: a position link waiting
-        // for an abstract step it may come before or after (both are tried).
-        if ready.iter().all(|&i| self.is_position_link(p.open[i].lit)) {
-            match self.order_flaw(p, &ready) {
-                Some(OrderChoice::Choose(f) | OrderChoice::Dead(f)) => return Some(f),
-                // Orderings forced since may have made links ready.
-                Some(OrderChoice::Forced) => return self.select(p),
-                None => {}
-            }
-        }
+            None => Vec::new(),
+        };
+        // Open links that are not visits and that no unrefined abstract
+        // step may still support.
+        let ready: Vec<usize> = (0..p.open.len())
+            .filter(|&i| !self.is_visit(&p.open[i]) && !self.deferred(p, &p.open[i]))
+            .collect();
         if !ready.is_empty() {
-            let positions_last = self.has_motion;
-            let candidates: Vec<usize> = {
-                let non_pos: Vec<usize> = ready
-                    .iter()
-                    .copied()
-                    .filter(|&i| !(positions_last && self.is_position_link(p.open[i].lit)))
-                    .collect();
-                if non_pos.is_empty() { ready } else { non_pos }
-            };
-            if positions_last && self.is_position_link(p.open[candidates[0]].lit) {
-                // Positions in chronological order: a robot's itinerary is
-                // built from its first destination on, each chain of moves
-                // starting where the one before ended.
-                let need = |i: usize| p.stn.est(p.open[i].need);
-                let first = candidates.iter().map(|&i| need(i)).fold(f64::INFINITY, f64::min);
-                return Some(Flaw::Open(
-                    self.costliest(p, candidates.iter().copied().filter(|&i| need(i) <= first)),
-                ));
-            }
             let pick = match self.config.flaws {
-                FlawOrder::ThreatFirst => *candidates.last().expect("non-empty"),
-                FlawOrder::Sorted => self.costliest(p, candidates.iter().copied()),
+                FlawOrder::ThreatFirst => *ready.last().expect("non-empty"),
+                FlawOrder::Sorted => self.costliest(p, ready.iter().copied()),
                 FlawOrder::Local => {
-                    let newest = candidates
+                    let newest = ready
                         .iter()
                         .map(|&i| p.steps[p.open[i].step as usize].born)
                         .max()
                         .expect("non-empty");
                     self.costliest(
                         p,
-                        candidates
-                            .iter()
-                            .copied()
-                            .filter(|&i| p.steps[p.open[i].step as usize].born == newest),
+                        ready.iter().copied().filter(|&i| p.steps[p.open[i].step as usize].born == newest),
                     )
                 }
             };
             return Some(Flaw::Open(pick));
         }
-        if p.abstracts.is_empty() && !p.open.is_empty() {
-            // Every open link is unsupported and no abstract step is left.
-            return Some(Flaw::Open(0));
+        // Positions: the next visit of an itinerary.
+        if let Some(geo) = &self.geo
+            && let Some(k) = geo.choose(p, &pending)
+        {
+            let mut pending = pending;
+            return Some(Flaw::Visit(pending.swap_remove(k)));
+        }
+        // Open links left wait for abstract steps.
+        if !p.open.is_empty() && !p.abstracts.is_empty() {
+            return Some(self.abstract_flaw(p));
+        }
+        if !p.threats.is_empty() {
+            return self.threat_flaw(p);
         }
         if !p.abstracts.is_empty() {
-            let (i, _) = p
-                .abstracts
-                .iter()
-                .enumerate()
-                .map(|(i, &s)| (i, p.stn.est(p.steps[s as usize].start)))
-                .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
-                .expect("non-empty");
-            return Some(Flaw::Abstract(i));
+            return Some(self.abstract_flaw(p));
+        }
+        if !p.open.is_empty() {
+            // Nothing left can support them: their resolvers say so.
+            return Some(Flaw::Open(0));
         }
         self.mutex(p)
     }
 
-    /// A position link that waits for an abstract step it is not ordered
-    /// with, when that step cannot overlap the link (its conflicts name the
-    /// position): whether the link comes before or after the step is a
-    /// choice, made before any chain of moves is (a meeting in a window
-    /// must get its place in the robot's itinerary before the patrol that
-    /// the robot could do first takes its start from the initial position).
-    fn order_flaw(&self, p: &mut Plan, ready: &[usize]) -> Option<OrderChoice> {
-        if !self.has_motion || p.abstracts.is_empty() {
-            return None;
-        }
-        let mut best: Option<(f64, Flaw)> = None;
-        let mut forced = false;
-        for i in 0..p.open.len() {
-            let o = p.open[i];
-            if !self.is_position_link(o.lit) || ready.contains(&i) {
-                continue;
-            }
-            for k in 0..p.abstracts.len() {
-                let a = p.abstracts[k];
-                let st = p.steps[a as usize];
-                let Kind::Op(op) = st.kind else { continue };
-                let op = &self.task.ops[op as usize];
-                if a == o.step
-                    || p.descends(o.step, a)
-                    || p.stn.before(o.need, st.start)
-                    || p.stn.before(st.end, o.need)
-                    || !op.conflicts_with(self.task.g, atom_of(o.lit))
-                {
+    /// The earliest unrefined abstract step (chronological order, 4.2.3).
+    fn abstract_flaw(&self, p: &Plan) -> Flaw {
+        let (i, _) = p
+            .abstracts
+            .iter()
+            .enumerate()
+            .map(|(i, &s)| (i, p.stn.est(p.steps[s as usize].start)))
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+            .expect("non-empty");
+        Flaw::Abstract(i)
+    }
+
+    /// A threat to solve: those the network allows one way only are ordered
+    /// in place, one it allows neither way ends the plan; else the last found.
+    fn threat_flaw(&self, p: &mut Plan) -> Option<Flaw> {
+        loop {
+            let mut forced = false;
+            let mut i = p.threats.len();
+            while i > 0 {
+                i -= 1;
+                let t = p.threats[i];
+                if !p.still_threat(self.task, &t) {
+                    std::rc::Rc::make_mut(&mut p.threats).remove(i);
                     continue;
                 }
-                // One way only (a time window, say): taken in place, no choice.
-                let mut first = p.stn.clone();
-                let ok1 = first.add(o.until, st.start, EPS);
-                let mut second = p.stn.clone();
-                let ok2 = second.add(st.end, o.need, EPS);
-                match (ok1, ok2) {
-                    (false, false) => return Some(OrderChoice::Dead(Flaw::Order(i, a))),
-                    (true, false) => (p.stn, forced) = (first, true),
-                    (false, true) => (p.stn, forced) = (second, true),
-                    (true, true) => {
-                        let t = p.stn.est(o.need);
-                        if best.as_ref().is_none_or(|(b, _)| t < *b) {
-                            best = Some((t, Flaw::Order(i, a)));
-                        }
-                    }
+                let [(a1, b1), (a2, b2)] = self.threat_orders(p, &t);
+                let (ok1, ok2) = (p.stn.allows(a1, b1, EPS), p.stn.allows(a2, b2, EPS));
+                let (a, b) = match (ok1, ok2) {
+                    (false, false) => return Some(Flaw::Dead),
+                    (true, true) => continue,
+                    (true, false) => (a1, b1),
+                    (false, true) => (a2, b2),
+                };
+                if !p.stn.add(a, b, EPS) {
+                    return Some(Flaw::Dead);
                 }
+                std::rc::Rc::make_mut(&mut p.threats).remove(i);
+                forced = true;
+            }
+            if !forced {
+                break;
             }
         }
-        if forced {
-            return Some(OrderChoice::Forced);
+        if p.threats.is_empty() {
+            return self.select(p);
         }
-        best.map(|(_, f)| OrderChoice::Choose(f))
+        Some(Flaw::Threat(p.threats.len() - 1))
     }
 
     /// Whether an open link must wait: an unrefined abstract step that can
@@ -548,30 +515,21 @@ impl<'a, 'db> Search<'a, 'db> {
             return false;
         }
         let pred = self.task.g.atoms.pred(atom_of(o.lit));
-        // The link's member, when it is a position (see below).
-        let group = if self.is_position_link(o.lit) {
-            self.task.motion_of(atom_of(o.lit)).map(|(_, g, _)| g)
-        } else {
-            None
-        };
         p.abstracts.iter().any(|&a| {
             let st = p.steps[a as usize];
             let Kind::Op(op) = st.kind else { return false };
             // A HiPOP abstract action is used through what it declares, like
             // an elementary action (section 4.1): a predicate its effects
-            // name is not waited for. What it does not declare (a robot's
-            // position along a round trip, everything for an HDDL task) only
-            // its methods tell.
+            // name is not waited for. What it does not declare (everything
+            // for an HDDL task) only its methods tell.
             if self.task.ops[op as usize].effs.iter().any(|e| self.task.g.atoms.pred(atom_of(e.lit)) == pred)
             {
                 return false;
             }
-            // A position also waits for an abstract step that may move its
-            // member elsewhere: where that step leaves it is where the next
-            // chain of moves starts (the last known position, 4.3.1).
-            let may = self.h.may_add(op, o.lit)
-                || group.is_some_and(|g| self.moves_groups[op as usize].binary_search(&g).is_ok());
-            a != o.step && !p.descends(o.step, a) && !p.stn.before(o.need, st.start) && may
+            a != o.step
+                && !p.descends(o.step, a)
+                && !p.stn.before(o.need, st.start)
+                && self.h.may_add(op, o.lit)
         })
     }
 
@@ -722,13 +680,9 @@ impl<'a, 'db> Search<'a, 'db> {
                     }
                 }
             }
-            Flaw::Order(i, a) => {
-                let (o, st) = (p.open[i], p.steps[a as usize]);
-                for (x, y) in [(o.until, st.start), (st.end, o.need)] {
-                    let mut c = p.clone();
-                    if c.stn.add(x, y, EPS) {
-                        out.push(c);
-                    }
+            Flaw::Visit(b) => {
+                if let Some(geo) = &self.geo {
+                    geo.extend(self.task, self.h, p, &b, out);
                 }
             }
             Flaw::Mutex(a, b) => {
@@ -739,6 +693,7 @@ impl<'a, 'db> Search<'a, 'db> {
                     }
                 }
             }
+            Flaw::Dead => {}
         }
     }
 
@@ -766,12 +721,8 @@ impl<'a, 'db> Search<'a, 'db> {
         if o.origin == OpenOrigin::AbstractEffect {
             return;
         }
-        // Chains of moves from the last known positions (4.3.2).
-        let position = !is_neg(o.lit) && self.has_motion && self.task.motion_of(atom_of(o.lit)).is_some();
-        if position {
-            self.move_chains(&base, &o, out);
-        }
-        // New steps from 𝒜.
+        // New steps from 𝒜 (a visit gets its moves from its itinerary).
+        let position = self.is_visit(&o);
         if let Some(achievers) = self.task.achievers.get(&o.lit) {
             for &(op, at) in achievers {
                 if position && self.task.moves.contains_key(&op) {
@@ -781,61 +732,11 @@ impl<'a, 'db> Search<'a, 'db> {
                     continue;
                 }
                 let mut c = base.clone();
-                let Some(s) = c.add_step(self.task, self.h, op, None) else { continue };
+                let Some(s) = self.add_step(&mut c, op, None) else { continue };
                 let tp = c.steps[s as usize].tp(at);
                 if c.add_link(self.task, s, tp, &o) {
                     out.push(c);
                 }
-            }
-        }
-    }
-
-    /// Supports a position by the shortest chain of moves from each last
-    /// known position of its member.
-    fn move_chains(&self, base: &Plan, o: &Open, out: &mut Vec<Plan>) {
-        let Some((m, group, to)) = self.task.motion_of(atom_of(o.lit)) else { return };
-        // Last known positions: producers of another position of the group.
-        let mut starts: Vec<(u32, Tp, u32)> = Vec::new();
-        let mut prod = Vec::new();
-        for (pos, &atom) in m.positions.iter().enumerate() {
-            if pos as u32 == to {
-                continue;
-            }
-            let probe = Open { lit: super::task::lit(atom, false), ..*o };
-            self.producers(base, &probe, &mut prod);
-            starts.extend(prod.iter().map(|&(s, tp)| (s, tp, pos as u32)));
-        }
-        let _ = group;
-        for (s, tp, from) in starts {
-            let Some(path) = m.path(from, to, |mv| self.task.moves[&mv].2) else { continue };
-            let mut c = base.clone();
-            let mut prev =
-                (s, tp, self.task.motion_of(atom_of(probe_lit(m, from))).map(|_| probe_lit(m, from)));
-            let mut ok = true;
-            for (k, &mv) in path.iter().enumerate() {
-                let Some(ns) = c.add_step(self.task, self.h, mv, None) else {
-                    ok = false;
-                    break;
-                };
-                // Link the move's from-position to the previous producer.
-                let from_lit = probe_lit(m, self.task.moves[&mv].1);
-                let Some(idx) = c.open.iter().rposition(|x| x.step == ns && x.lit == from_lit) else {
-                    ok = false;
-                    break;
-                };
-                let open = c.remove_open(idx);
-                if !c.add_link(self.task, prev.0, prev.1, &open) {
-                    ok = false;
-                    break;
-                }
-                let end = c.steps[ns as usize].end;
-                prev = (ns, end, None);
-                if k + 1 == path.len() && !c.add_link(self.task, ns, end, o) {
-                    ok = false;
-                }
-            }
-            if ok && !path.is_empty() {
-                out.push(c);
             }
         }
     }
@@ -850,7 +751,7 @@ impl<'a, 'db> Search<'a, 'db> {
         }
         let mut ids = Vec::with_capacity(method.subtasks.len());
         for &(_, op) in &method.subtasks {
-            match p.add_step(self.task, self.h, op, Some(s)) {
+            match self.add_step(p, op, Some(s)) {
                 Some(id) => ids.push(id),
                 None => return false,
             }
@@ -873,7 +774,23 @@ impl<'a, 'db> Search<'a, 'db> {
                 origin: OpenOrigin::MethodPre(m, ci as u32),
                 after_start: false,
             };
-            if !p.add_open(self.task, o) {
+            // A position the step's itinerary already brought its member
+            // to: the same causal link, or the method does not apply.
+            let linked = match self.geo.as_ref().and_then(|_| Geo::position(self.task, c.lit)) {
+                Some((g, _)) => p.links.iter().copied().find(|l| {
+                    l.to == s
+                        && l.need == step.start
+                        && Geo::position(self.task, l.lit).is_some_and(|(g2, _)| g2 == g)
+                }),
+                None => None,
+            };
+            if let Some(l) = linked {
+                if !(l.lit == c.lit && p.add_link(self.task, l.from, l.from_tp, &o)) {
+                    return false;
+                }
+                continue;
+            }
+            if !self.add_open(p, o) {
                 return false;
             }
         }
@@ -889,12 +806,79 @@ impl<'a, 'db> Search<'a, 'db> {
                 origin: OpenOrigin::AbstractEffect,
                 after_start: false,
             };
-            if !p.add_open(self.task, o) {
+            if !self.add_open(p, o) {
                 return false;
             }
         }
-        let _ = End::Start;
         true
+    }
+
+    /// `g`, `h` and the effort of a plan about to enter the open list,
+    /// after its threats with one ordering left are solved; `None` when a
+    /// threat has none (the plan is dead).
+    fn score(&self, plan: &mut Plan) -> Option<(f64, f64, f64)> {
+        let penalty = self.settle(plan)?;
+        let (h, effort) = self.estimate(plan);
+        let (busiest, total) = self.work(plan);
+        let g = plan.makespan().max(busiest) + penalty + STEP_COST * total;
+        Some((g, h, effort))
+    }
+
+    /// Whether a flaw belongs to the completion of a plan: what is left
+    /// once every step that supports a goal or a condition is chosen
+    /// (itineraries, refinements, the delayed threats).
+    fn completes(flaw: &Flaw) -> bool {
+        !matches!(flaw, Flaw::Open(_))
+    }
+
+    /// The children of a plan for a flaw, scored: those a threat left
+    /// without ordering are dropped (`dead` gets them, for reports).
+    fn expand(&self, p: &Plan, flaw: Flaw, stats: &mut Stats, dead: &mut dyn FnMut(&Plan)) -> Vec<Scored> {
+        let linking = matches!(flaw, Flaw::Open(_));
+        let mut children = Vec::new();
+        self.resolvers(p, flaw, &mut children);
+        let mut out = Vec::with_capacity(children.len());
+        for mut c in children {
+            let added = if linking { c.steps.len() - p.steps.len() } else { 0 };
+            match self.score(&mut c) {
+                Some((g, h, effort)) => out.push(Scored { f: g + h, effort, added, plan: c }),
+                None => dead(&c),
+            }
+        }
+        stats.generated += out.len() as u64;
+        out
+    }
+
+    /// Greedy completion: a depth-first descent from a plan's children (in
+    /// [`Scored::probe_order`]) that backtracks, within `budget` expansions.
+    /// A plan it finds has no flaw, like one A* would return.
+    fn probe(
+        &self,
+        first: Vec<Plan>,
+        budget: u64,
+        stats: &mut Stats,
+        deadline: &dyn Fn() -> bool,
+    ) -> Option<Plan> {
+        let mut stack: Vec<std::vec::IntoIter<Plan>> = vec![first.into_iter()];
+        let mut spent = 0u64;
+        loop {
+            let mut p = loop {
+                let top = stack.last_mut()?;
+                if let Some(n) = top.next() {
+                    break n;
+                }
+                stack.pop();
+            };
+            spent += 1;
+            stats.expanded += 1;
+            if spent > budget || (spent.is_multiple_of(32) && deadline()) {
+                return None;
+            }
+            let Some(flaw) = self.select(&mut p) else { return Some(p) };
+            let mut scored = self.expand(&p, flaw, stats, &mut |_| {});
+            scored.sort_by(Scored::probe_order);
+            stack.push(scored.into_iter().map(|x| x.plan).collect::<Vec<_>>().into_iter());
+        }
     }
 
     /// Runs the search.
@@ -912,44 +896,35 @@ impl<'a, 'db> Search<'a, 'db> {
         let mut id = 0u64;
         // The most advanced plan: the fewest open links and abstract flaws
         // (its threats are what stopped it, if anything).
-        let mut best_effort = f64::INFINITY;
-        let mut keep_best = |plan: &Plan, best: &mut Option<Plan>| {
-            let advance = (plan.open.len() + plan.abstracts.len()) as f64;
-            if advance <= best_effort {
-                best_effort = advance;
+        let mut best_effort = usize::MAX;
+        let keep_best = |plan: &Plan, best: &mut Option<Plan>, best_effort: &mut usize| {
+            let advance = plan.open.len() + plan.abstracts.len();
+            if advance <= *best_effort {
+                *best_effort = advance;
                 *best = Some(plan.clone());
             }
         };
-        let push = |heap: &mut BinaryHeap<Node>,
-                    mut plan: Plan,
-                    id: &mut u64,
-                    stats: &mut Stats,
-                    best: &mut Option<Plan>,
-                    keep_best: &mut dyn FnMut(&Plan, &mut Option<Plan>)| {
-            // Threats with one resolver left are solved now; a plan with a
-            // threat that has none is dropped before it costs anything (it
-            // may still be the most advanced one, to report that threat).
-            let Some(penalty) = self.settle(&mut plan) else {
-                keep_best(&plan, best);
-                return;
-            };
-            let (h, effort) = self.estimate(&plan);
-            let f = plan.makespan().max(self.load(&plan)) + penalty + h;
-            *id += 1;
-            stats.generated += 1;
-            heap.push(Node { f, effort, id: *id, plan });
-        };
-        for root in roots {
-            push(&mut heap, root, &mut id, stats, best, &mut keep_best);
+        let probing = self.config.lookahead;
+        for mut root in roots {
+            match self.score(&mut root) {
+                Some((g, h, effort)) => {
+                    id += 1;
+                    stats.generated += 1;
+                    let size = root.steps.len();
+                    heap.push(Node { f: g + h, effort, size, id, probed: false, plan: root });
+                }
+                None => keep_best(&root, best, &mut best_effort),
+            }
         }
+        let time_up = || limits.time.is_some_and(|t| started.elapsed() >= t) || cancel();
         let mut last_report = Instant::now();
-        let mut children = Vec::new();
+        let mut next_milestone: u64 = 1024;
         while let Some(node) = heap.pop() {
             let mut plan = node.plan;
             stats.expanded += 1;
             stats.open = heap.len();
             stats.peak_open = stats.peak_open.max(heap.len());
-            keep_best(&plan, best);
+            keep_best(&plan, best, &mut best_effort);
             if stats.expanded.is_multiple_of(32) {
                 let elapsed = started.elapsed();
                 stats.elapsed = elapsed;
@@ -988,10 +963,39 @@ impl<'a, 'db> Search<'a, 'db> {
                 stats.elapsed = started.elapsed();
                 return End2::Solved(plan);
             };
-            children.clear();
-            self.resolvers(&plan, flaw, &mut children);
-            for c in children.drain(..) {
-                push(&mut heap, c, &mut id, stats, best, &mut keep_best);
+            let completes = Self::completes(&flaw);
+            let scored = self.expand(&plan, flaw, stats, &mut |c| keep_best(c, best, &mut best_effort));
+            // A plan entering its completion: first a greedy descent from
+            // its children. And when A* has spent 1024, 2048, 4096…
+            // expansions, the plan it is at gets one too, whatever is left.
+            let mut probed = node.probed;
+            let milestone = stats.expanded >= next_milestone;
+            if milestone {
+                next_milestone *= 2;
+            }
+            if probing && (!probed && completes || milestone) {
+                probed |= completes;
+                let remaining = plan.open.len() as u64
+                    + plan.threats.len() as u64
+                    + plan
+                        .abstracts
+                        .iter()
+                        .filter_map(|&a| plan.op_of(a))
+                        .map(|o| self.h.refine_effort[o as usize].min(1e6) as u64)
+                        .sum::<u64>();
+                let budget = 256 + 4 * remaining;
+                let mut first: Vec<&Scored> = scored.iter().collect();
+                first.sort_by(|a, b| Scored::probe_order(a, b));
+                let first = first.into_iter().map(|s| s.plan.clone()).collect();
+                if let Some(found) = self.probe(first, budget, stats, &time_up) {
+                    stats.elapsed = started.elapsed();
+                    return End2::Solved(found);
+                }
+            }
+            for c in scored {
+                id += 1;
+                let size = c.plan.steps.len();
+                heap.push(Node { f: c.f, effort: c.effort, size, id, probed, plan: c.plan });
             }
         }
         stats.elapsed = started.elapsed();
@@ -1000,42 +1004,44 @@ impl<'a, 'db> Search<'a, 'db> {
     }
 }
 
-/// The effects of a plan's steps, by literal, and the positions its steps
-/// reach, by family: built once per plan for its estimate.
+/// A child plan with its score.
+struct Scored {
+    f: f64,
+    effort: f64,
+    /// Steps it added for an open link.
+    added: usize,
+    plan: Plan,
+}
+
+impl Scored {
+    /// The order a greedy descent tries children in: for an open link, a
+    /// causal link to a step already there before a new step (reuse keeps
+    /// a new step's conditions free in h, so a descent could otherwise add
+    /// steps that need steps without end); then the lowest f, the effort.
+    fn probe_order(a: &Scored, b: &Scored) -> Ordering {
+        a.added.cmp(&b.added).then(a.f.total_cmp(&b.f)).then(a.effort.total_cmp(&b.effort))
+    }
+}
+
+/// The effects of a plan's steps, by literal: built once per plan for its estimate.
 struct EffectIndex {
     by_lit: rustc_hash::FxHashMap<Lit, Vec<Tp>>,
-    /// Per motion group: (position, time point).
-    positions: rustc_hash::FxHashMap<u32, Vec<(u32, Tp)>>,
 }
 
 impl EffectIndex {
     fn new(task: &Task<'_>, p: &Plan) -> EffectIndex {
         let mut by_lit: rustc_hash::FxHashMap<Lit, Vec<Tp>> = rustc_hash::FxHashMap::default();
-        let mut positions: rustc_hash::FxHashMap<u32, Vec<(u32, Tp)>> = rustc_hash::FxHashMap::default();
         for s in 0..p.steps.len() as u32 {
             for (l, tp) in p.effects(task, s) {
                 by_lit.entry(l).or_default().push(tp);
-                if !is_neg(l)
-                    && let Some((g, pos)) = task.family[atom_of(l) as usize]
-                {
-                    positions.entry(g).or_default().push((pos, tp));
-                }
             }
         }
-        EffectIndex { by_lit, positions }
+        EffectIndex { by_lit }
     }
 
     fn of(&self, l: Lit) -> &[Tp] {
         self.by_lit.get(&l).map_or(&[], |v| v.as_slice())
     }
-
-    fn positions(&self, group: u32) -> &[(u32, Tp)] {
-        self.positions.get(&group).map_or(&[], |v| v.as_slice())
-    }
-}
-
-fn probe_lit(m: &super::task::MotionGroup, pos: u32) -> Lit {
-    super::task::lit(m.positions[pos as usize], false)
 }
 
 /// What a plan in the open list costs on its own beyond what it shares:

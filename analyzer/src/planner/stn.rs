@@ -124,6 +124,48 @@ impl Stn {
         self.propagate(a, b, w)
     }
 
+    /// Whether `t_b ≥ t_a + w` can be added and keep the network
+    /// consistent: [`Stn::add`]'s propagation as a dry run, which changes
+    /// nothing (no copy of the network, no closure update).
+    pub fn allows(&self, a: Tp, b: Tp, w: f64) -> bool {
+        if a as usize >= self.len() || b as usize >= self.len() || !w.is_finite() {
+            return false;
+        }
+        if a == b {
+            return w <= 0.0;
+        }
+        let start = self.est(a) + w;
+        if start <= self.est(b) + NOISE {
+            return true;
+        }
+        if b == ORIGIN {
+            return false;
+        }
+        let mut raised: rustc_hash::FxHashMap<Tp, f64> = rustc_hash::FxHashMap::default();
+        raised.insert(b, start);
+        let mut queue = VecDeque::from([b]);
+        let mut budget = 64 * (self.len() + 16) * (self.len() + 16);
+        while let Some(x) = queue.pop_front() {
+            let tx = raised[&x];
+            for e in self.edges(x) {
+                let t = tx + e.w;
+                let cur = raised.get(&e.to).copied().unwrap_or_else(|| self.est(e.to));
+                if t > cur + NOISE {
+                    if e.to == a || e.to == ORIGIN {
+                        return false;
+                    }
+                    raised.insert(e.to, t);
+                    queue.push_back(e.to);
+                }
+                budget = budget.saturating_sub(1);
+                if budget == 0 {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
     fn propagate(&mut self, a: Tp, b: Tp, w: f64) -> bool {
         let start = self.est(a) + w;
         if start <= self.est(b) + NOISE {

@@ -1,6 +1,7 @@
 ; Companion of over-all-supported-by-own-start.pddl (analyzer/tests/planner_props.rs).
 ; expect: solved
-; bug: condition-supported-by-own-start (reported; `regressions` skips this fixture, `known_bugs` runs it)
+; fixed: ties on f go to the smaller plan before the newest (planner/search.rs,
+; `Ord for Node`); the description below is of the bug.
 ;
 ; `a0` deletes `p1` at its start and needs `(not (p1))` at its end: `0.000: (a0) [1.000]`
 ; is valid.

@@ -1,7 +1,8 @@
 ; Found by analyzer/tests/planner_props.rs with HIPOP_PROPS_STRICT=1
 ; HIPOP_PROPS_SEED=7 (configuration bare; shrunk).
 ; expect: solved
-; bug: equal-f-plateau (reported; `regressions` skips this fixture, `known_bugs` runs it)
+; fixed: ties on f go to the smaller plan before the newest (planner/search.rs,
+; `Ord for Node`); the description below is of the bug.
 ;
 ; The same plateau as equal-f-plateau.pddl, with goals that hold initially:
 ; `0.000: (a0) [3.000]` is a plan (`(not (p0 o0))` and `(p2)` hold in the

@@ -1,7 +1,8 @@
 ; Found by analyzer/tests/planner_props.rs with HIPOP_PROPS_STRICT=1 (a limit
 ; where the breadth-first search finds a plan, shrunk).
 ; expect: solved
-; bug: equal-f-plateau (reported; `regressions` skips this fixture, `known_bugs` runs it)
+; fixed: ties on f go to the smaller plan before the newest (planner/search.rs,
+; `Ord for Node`); the description below is of the bug.
 ;
 ; `0.000: (a0 o0) [1.000]` is a plan (`p1` from the initial state). The
 ; planner (AR-time-local-motion, AR-time-local-ncm, R-time-local, bare) stops
