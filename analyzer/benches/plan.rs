@@ -252,15 +252,23 @@ fn one(raw: &[String]) -> ExitCode {
             let f = host.set_file_text(&format!("bench.{ext}"), text.as_str());
             let v = host.analysis().validate_plan(f, None, pf, &Options::default());
             let check = match v {
-                Ok(Some(v)) => json!({
-                    "valid": v.valid && v.checked,
-                    "error": if v.valid && v.checked {
-                        None
-                    } else {
-                        Some(first_error(&v.diagnostics, f, &text).unwrap_or_else(|| "not checked".into()))
-                    },
-                    "makespan": v.makespan,
-                }),
+                Ok(Some(v)) => {
+                    // The plans are written with every dependent happening
+                    // ε apart: one closer (W0411) is a planner bug too.
+                    let close = v.diagnostics.iter().find(|d| d.code.id == "W0411");
+                    let ok = v.valid && v.checked && close.is_none();
+                    json!({
+                        "valid": ok,
+                        "error": if ok {
+                            None
+                        } else if let Some(d) = close.filter(|_| v.valid && v.checked) {
+                            Some(format!("W0411 {}", d.message))
+                        } else {
+                            Some(first_error(&v.diagnostics, f, &text).unwrap_or_else(|| "not checked".into()))
+                        },
+                        "makespan": v.makespan,
+                    })
+                }
                 _ => json!({"valid": false, "error": "the validator did not run"}),
             };
             out[key] = check;

@@ -94,6 +94,14 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
     }
     let horizon = p.stn.est(p.goal_tp);
     let lst = p.stn.latest(horizon);
+    // Times as written (three decimals): the earliest schedule on the
+    // millisecond grid, so that what is printed keeps every separation;
+    // the real-valued one if the rounded network has none.
+    let grid = p.stn.grid_schedule(1000.0);
+    let at = |tp: u32| match &grid {
+        Some(g) => g[tp as usize] as f64 / 1000.0,
+        None => p.stn.est(tp),
+    };
     let mut steps: Vec<SolvedStep> = order
         .iter()
         .enumerate()
@@ -105,15 +113,15 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
                 name: op.name.to_string(),
                 args: op.args.iter().map(|&o| obj(o)).collect(),
                 agents: op.agents.iter().map(|&o| obj(o)).collect(),
-                start: p.stn.est(st.start),
-                end: p.stn.est(st.end),
+                start: at(st.start),
+                end: at(st.end),
                 durative: !op.is_abstract && !op.instant,
                 is_abstract: op.is_abstract,
                 method: st.method.map(|m| task.methods[m as usize].name.to_string()),
                 subtasks: Vec::new(),
                 bounds: [
-                    (p.stn.est(st.start), lst[st.start as usize]),
-                    (p.stn.est(st.end), lst[st.end as usize]),
+                    (at(st.start), lst[st.start as usize].max(at(st.start))),
+                    (at(st.end), lst[st.end as usize].max(at(st.end))),
                 ],
             }
         })
