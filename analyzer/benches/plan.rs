@@ -60,7 +60,7 @@ OPTIONS:
     --jobs N            problems planned at once, each in its own process (default 1)
     --out FILE.md       the report (default target/plan-bench.md); the CSV is FILE.csv
     --per-domain N      hddl: only the first N problems of each domain
-    --filter TEXT       only the problems whose name contains TEXT
+    --filter TEXT       only the problems whose DOMAIN/NAME contains TEXT
     --satellite DIR     the Satellite corpus folder (default: $HIPOP_CORPORA or ../shared/corpora)
     --hddl DIR          the IPC 2020 partial-order folder (default: $HIPOP_CORPORA or ../shared/corpora)
 ";
@@ -587,7 +587,7 @@ fn problems(
         }
     }
     if let Some(f) = &a.filter {
-        out.retain(|(_, _, name, _, _)| name.contains(f.as_str()));
+        out.retain(|(_, domain, name, _, _)| format!("{domain}/{name}").contains(f.as_str()));
     }
     out
 }

@@ -262,6 +262,20 @@ fn htn_parameters_and_method_constraints_are_planned() {
     assert_eq!((root.name.as_str(), root.args.as_slice()), ("deliver", ["town".to_string()].as_slice()));
 }
 
+/// A `forall` precondition is the conjunction of its instances over the
+/// problem's objects; a task that refines into itself after an action that
+/// changes the state (`remove-all → remove, remove-all`) is refined again,
+/// not cut as a loop. The plan removes both trees, then clears the road.
+#[test]
+fn forall_conditions_and_self_recursion_through_state_changes_are_planned() {
+    let plan = solve_fixture("forall-condition.hddl");
+    let text = plan.to_val("t");
+    let actions: Vec<&str> = text.lines().filter_map(|l| l.split_once(": (").map(|(_, a)| a)).collect();
+    assert_eq!(actions.len(), 3, "{text}");
+    assert!(actions[2].starts_with("clear main)"), "{text}");
+    assert!(actions[..2].iter().all(|a| a.starts_with("remove ")), "{text}");
+}
+
 /// The whole surveillance sample: 8 robots, patrols as abstract actions with
 /// two methods each, 25 observations and 6 meetings inside time windows.
 /// Within 20,000 plans: the orderings of meetings and patrols that a time

@@ -205,7 +205,7 @@ impl Default for PlannerLimits {
             nodes: None,
             memory: Some(4 << 30),
             memory_in_use: None,
-            method_instances: 100_000,
+            method_instances: 1_000_000,
         }
     }
 }

@@ -535,37 +535,50 @@ impl<'a, 'db> Search<'a, 'db> {
 
     /// Whether refining step `s` with method `m` only goes round a loop: a
     /// subtask of `m` is the ground task of `s` or of one of its ancestors
-    /// (same task, same arguments), and either that task has arguments (a
-    /// cycle: `get-to truck1 city2` again below itself means driving back to
-    /// where the truck was), or no method on the way from that ancestor down
-    /// (`m` included) adds a primitive step (a pure loop). A task without
-    /// arguments that recurses through actions (`S → t S y`, PCP's, any
-    /// "repeat until done" task) makes progress and is kept.
+    /// (same task, same arguments), and no method on the way from that task
+    /// down (`m` included) adds an action that changes the state (a pure
+    /// loop), or the
+    /// repeat goes through other tasks and has arguments (a cycle:
+    /// `get-to truck1 city2` again below `get-to truck1 city1` below itself
+    /// means driving back to where the truck was). A task that recurses
+    /// into itself directly through actions (`S → t S y`, PCP's;
+    /// `remove-all r → remove t r, remove-all r`, any "repeat until done"
+    /// task) makes progress and is kept.
     fn only_loops(&self, p: &Plan, s: u32, m: u32) -> bool {
-        let primitive = |m: u32| {
-            self.task.methods[m as usize]
-                .subtasks
-                .iter()
-                .any(|&(_, op)| !self.task.ops[op as usize].is_abstract)
+        // A method makes progress when one of its actions changes the state:
+        // deletes something or adds what it does not need (`drive l l` on a
+        // road from a place to itself does not).
+        let changes = |op: &super::task::Op<'_>| {
+            op.effs.iter().any(|e| is_neg(e.lit) || !op.conds.iter().any(|c| c.lit == e.lit))
         };
-        let subtasks = &self.task.methods[m as usize].subtasks;
-        let mut progress = primitive(m);
-        let mut cur = s;
-        loop {
-            if let Some(op) = p.op_of(cur)
-                && subtasks.iter().any(|&(_, sub)| sub == op)
-                && (!progress || !self.task.ops[op as usize].args.is_empty())
-            {
-                return true;
-            }
-            match p.steps[cur as usize].parent {
-                Some(parent) => {
-                    progress |= p.steps[parent as usize].method.is_some_and(primitive);
-                    cur = parent;
+        let primitive = |m: u32| {
+            self.task.methods[m as usize].subtasks.iter().any(|&(_, op)| {
+                let op = &self.task.ops[op as usize];
+                !op.is_abstract && changes(op)
+            })
+        };
+        for &(_, sub) in &self.task.methods[m as usize].subtasks {
+            // The nearest step above (or `s` itself) with the same ground task decides.
+            let mut progress = primitive(m);
+            let mut cur = s;
+            loop {
+                if p.op_of(cur) == Some(sub) {
+                    let through_others = cur != s && !self.task.ops[sub as usize].args.is_empty();
+                    if !progress || through_others {
+                        return true;
+                    }
+                    break;
                 }
-                None => return false,
+                match p.steps[cur as usize].parent {
+                    Some(parent) => {
+                        progress |= p.steps[parent as usize].method.is_some_and(primitive);
+                        cur = parent;
+                    }
+                    None => break,
+                }
             }
         }
+        false
     }
 
     fn costliest(&self, p: &Plan, it: impl Iterator<Item = usize>) -> usize {

@@ -230,6 +230,9 @@ type Binding = Vec<(Str, ObjId)>;
 /// The initial task networks a problem's `:htn` parameters may give.
 const MAX_HTN_BINDINGS: usize = 10_000;
 
+/// The instances a universally quantified condition may stand for.
+const MAX_FORALL_INSTANCES: usize = 10_000;
+
 struct Compiler<'a, 'db> {
     db: &'db dyn Db,
     g: &'a Ground<'db>,
@@ -243,7 +246,7 @@ struct Compiler<'a, 'db> {
 impl<'db> Compiler<'_, 'db> {
     fn term(&self, t: &Term, b: &Binding) -> Option<ObjId> {
         match t {
-            Term::Var(n) => b.iter().find(|(k, _)| *k == n.key).map(|(_, o)| *o),
+            Term::Var(n) => b.iter().rev().find(|(k, _)| *k == n.key).map(|(_, o)| *o),
             Term::Const(n) => self.g.objects.id(&n.key),
             _ => None,
         }
@@ -327,7 +330,43 @@ impl<'db> Compiler<'_, 'db> {
             Gd::Compare(..) => self.unsupported(item, gd_span(gd), "a numeric condition"),
             Gd::Or(_, s) => self.unsupported(item, *s, "a disjunctive condition"),
             Gd::Imply(_, _, s) => self.unsupported(item, *s, "an implication in a condition"),
-            Gd::Forall(_, _, s) => self.unsupported(item, *s, "a universally quantified condition"),
+            Gd::Forall(vars, inner, s) => {
+                // Over finitely many objects: the conjunction of its instances.
+                let domains: Vec<Vec<ObjId>> = vars
+                    .iter()
+                    .map(|v| self.g.objects.of_types(&crate::semantics::symbols::type_set(&v.ty)))
+                    .collect();
+                let count = domains.iter().fold(1usize, |n, d| n.saturating_mul(d.len()));
+                if count > MAX_FORALL_INSTANCES {
+                    self.unsupported(
+                        item,
+                        *s,
+                        &format!(
+                            "a universally quantified condition over more than {MAX_FORALL_INSTANCES} objects ({count})"
+                        ),
+                    );
+                    return;
+                }
+                if count == 0 {
+                    return; // vacuously true
+                }
+                let mut choice = vec![0usize; domains.len()];
+                'instances: loop {
+                    let mut b2 = b.clone();
+                    b2.extend(
+                        vars.iter().zip(&domains).zip(&choice).map(|((v, d), &k)| (v.name.key.clone(), d[k])),
+                    );
+                    self.conds(item, inner, &b2, time, out, dead);
+                    for k in (0..choice.len()).rev() {
+                        choice[k] += 1;
+                        if choice[k] < domains[k].len() {
+                            continue 'instances;
+                        }
+                        choice[k] = 0;
+                    }
+                    break;
+                }
+            }
             Gd::Exists(_, _, s) => self.unsupported(item, *s, "an existentially quantified condition"),
             other => self.unsupported(item, gd_span(other), "a condition the planner cannot follow"),
         }
