@@ -138,6 +138,7 @@ fn failures_are_located() {
     let dir = root().join("tests/planner");
     let cases = [
         ("unsupported-disjunction.pddl", Status::Refused, vec!["E0501"]),
+        ("unsupported-over-all-effect.pddl", Status::Refused, vec!["E0501"]),
         ("no-plan.pddl", Status::NoPlan, vec!["E0502", "I0505"]),
         ("abstract-flaw.hddl", Status::NoPlan, vec!["E0502", "I0506"]),
         ("patrol-shorter-than-its-method.pddl", Status::NoPlan, vec!["E0502", "I0506"]),

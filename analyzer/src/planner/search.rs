@@ -78,6 +78,9 @@ enum Flaw {
     Open(usize),
     Abstract(usize),
     Mutex(Tp, Tp),
+    /// A goal that a timed initial literal makes true, at this time point,
+    /// after the plan's last event: VAL does not apply it.
+    Late(Tp),
     /// The next visit of an itinerary (geometric reasoning).
     Visit(Pending),
     /// A flaw no resolver can solve (a threat with no ordering left, an
@@ -453,7 +456,28 @@ impl<'a, 'db> Search<'a, 'db> {
             // Nothing left can support them: their resolvers say so.
             return Some(Flaw::Open(0));
         }
-        self.mutex(p)
+        self.late_til(p).or_else(|| self.mutex(p))
+    }
+
+    /// A goal supported by a timed initial literal later than every event
+    /// of the plan: VAL applies no timed literal after the plan's last
+    /// event, so some step must end after it.
+    fn late_til(&self, p: &Plan) -> Option<Flaw> {
+        let last = p
+            .steps
+            .iter()
+            .filter(|s| matches!(s.kind, Kind::Op(o) if !self.task.ops[o as usize].is_abstract))
+            .map(|s| p.stn.est(s.end))
+            .fold(0.0, f64::max);
+        p.links
+            .iter()
+            .filter(|l| {
+                matches!(p.steps[l.from as usize].kind, Kind::Til(_))
+                    && p.steps[l.to as usize].kind == Kind::Goal
+                    && p.stn.est(l.from_tp) > last + 1e-9
+            })
+            .map(|l| Flaw::Late(l.from_tp))
+            .next()
     }
 
     /// The earliest unrefined abstract step (chronological order, 4.2.3).
@@ -696,6 +720,34 @@ impl<'a, 'db> Search<'a, 'db> {
             Flaw::Visit(b) => {
                 if let Some(geo) = &self.geo {
                     geo.extend(self.task, self.h, p, &b, out);
+                }
+            }
+            Flaw::Late(til) => {
+                for step in p.steps.iter() {
+                    if matches!(step.kind, Kind::Op(o) if !self.task.ops[o as usize].is_abstract) {
+                        let mut c = p.clone();
+                        if c.stn.add(til, step.end, EPS) {
+                            out.push(c);
+                        }
+                    }
+                }
+                // Or a new step of 𝒜 after it (an elementary one; a move
+                // only through an itinerary).
+                for (op, o) in self.task.ops.iter().enumerate() {
+                    let op = op as u32;
+                    if !o.allowed
+                        || o.dead
+                        || o.is_abstract
+                        || self.geo.is_some() && self.task.moves.contains_key(&op)
+                    {
+                        continue;
+                    }
+                    let mut c = p.clone();
+                    let Some(s) = self.add_step(&mut c, op, None) else { continue };
+                    let end = c.steps[s as usize].end;
+                    if c.stn.add(til, end, EPS) {
+                        out.push(c);
+                    }
                 }
             }
             Flaw::Mutex(a, b) => {

@@ -381,6 +381,10 @@ impl<'db> Compiler<'_, 'db> {
         };
         match e {
             Effect::And(es, _) => es.iter().for_each(|e| self.effs(item, e, b, time, out)),
+            // PDDL 2.1 has no `over all` effects; the validator refuses them too.
+            Effect::Timed(TimeSpec::OverAll, _, s) => {
+                self.unsupported(item, *s, "an `over all` effect (continuous change)")
+            }
             Effect::Timed(spec, inner, _) => self.effs(item, inner, b, Some(*spec), out),
             Effect::Add(a) => {
                 if let Ok(Some(atom)) = self.atom(item, a, b) {
