@@ -299,12 +299,12 @@ impl<'a, 'db> Search<'a, 'db> {
         }
     }
 
-    /// Solves in place the threats left with one consistent resolver, and
-    /// looks ahead at the others: `None` when a threat has no resolver left
-    /// (the plan is dead), else the least increase of the makespan that the
-    /// worst of the remaining threats forces (both of its orderings are
-    /// probed on the network).
-    fn settle(&self, p: &mut Plan) -> Option<f64> {
+    /// Drops the threats that are no longer threats and orders in place,
+    /// until none is left, those that one ordering only still solves: false
+    /// when one has none (the plan is dead). `exact` asks the network
+    /// whether each ordering can be added (a dry run of its propagation);
+    /// else only the closure is read (an ordering it does not contradict).
+    fn force_threats(&self, p: &mut Plan, exact: bool) -> bool {
         loop {
             let mut forced = false;
             let mut i = p.threats.len();
@@ -315,24 +315,36 @@ impl<'a, 'db> Search<'a, 'db> {
                     std::rc::Rc::make_mut(&mut p.threats).remove(i);
                     continue;
                 }
+                let ok = |p: &Plan, a: Tp, b: Tp| {
+                    if exact { p.stn.allows(a, b, EPS) } else { !p.stn.before(b, a) && b != a }
+                };
                 let [(a1, b1), (a2, b2)] = self.threat_orders(p, &t);
-                let ok1 = !p.stn.before(b1, a1) && b1 != a1;
-                let ok2 = !p.stn.before(b2, a2) && b2 != a2;
-                let (a, b) = match (ok1, ok2) {
-                    (false, false) => return None,
+                let (a, b) = match (ok(p, a1, b1), ok(p, a2, b2)) {
+                    (false, false) => return false,
                     (true, true) => continue,
                     (true, false) => (a1, b1),
                     (false, true) => (a2, b2),
                 };
                 if !p.stn.add(a, b, EPS) {
-                    return None;
+                    return false;
                 }
                 std::rc::Rc::make_mut(&mut p.threats).remove(i);
                 forced = true;
             }
             if !forced {
-                break;
+                return true;
             }
+        }
+    }
+
+    /// Solves in place the threats left with one consistent resolver, and
+    /// looks ahead at the others: `None` when a threat has no resolver left
+    /// (the plan is dead), else the least increase of the makespan that the
+    /// worst of the remaining threats forces (both of its orderings are
+    /// probed on the network).
+    fn settle(&self, p: &mut Plan) -> Option<f64> {
+        if !self.force_threats(p, false) {
+            return None;
         }
         if p.threats.is_empty() {
             return Some(0.0);
@@ -459,16 +471,17 @@ impl<'a, 'db> Search<'a, 'db> {
         self.late_til(p).or_else(|| self.mutex(p))
     }
 
+    /// Whether a step is of an elementary action.
+    fn elementary(&self, k: Kind) -> bool {
+        matches!(k, Kind::Op(o) if !self.task.ops[o as usize].is_abstract)
+    }
+
     /// A goal supported by a timed initial literal later than every event
     /// of the plan: VAL applies no timed literal after the plan's last
     /// event, so some step must end after it.
     fn late_til(&self, p: &Plan) -> Option<Flaw> {
-        let last = p
-            .steps
-            .iter()
-            .filter(|s| matches!(s.kind, Kind::Op(o) if !self.task.ops[o as usize].is_abstract))
-            .map(|s| p.stn.est(s.end))
-            .fold(0.0, f64::max);
+        let last =
+            p.steps.iter().filter(|s| self.elementary(s.kind)).map(|s| p.stn.est(s.end)).fold(0.0, f64::max);
         p.links
             .iter()
             .filter(|l| {
@@ -495,33 +508,8 @@ impl<'a, 'db> Search<'a, 'db> {
     /// A threat to solve: those the network allows one way only are ordered
     /// in place, one it allows neither way ends the plan; else the last found.
     fn threat_flaw(&self, p: &mut Plan) -> Option<Flaw> {
-        loop {
-            let mut forced = false;
-            let mut i = p.threats.len();
-            while i > 0 {
-                i -= 1;
-                let t = p.threats[i];
-                if !p.still_threat(self.task, &t) {
-                    std::rc::Rc::make_mut(&mut p.threats).remove(i);
-                    continue;
-                }
-                let [(a1, b1), (a2, b2)] = self.threat_orders(p, &t);
-                let (ok1, ok2) = (p.stn.allows(a1, b1, EPS), p.stn.allows(a2, b2, EPS));
-                let (a, b) = match (ok1, ok2) {
-                    (false, false) => return Some(Flaw::Dead),
-                    (true, true) => continue,
-                    (true, false) => (a1, b1),
-                    (false, true) => (a2, b2),
-                };
-                if !p.stn.add(a, b, EPS) {
-                    return Some(Flaw::Dead);
-                }
-                std::rc::Rc::make_mut(&mut p.threats).remove(i);
-                forced = true;
-            }
-            if !forced {
-                break;
-            }
+        if !self.force_threats(p, true) {
+            return Some(Flaw::Dead);
         }
         if p.threats.is_empty() {
             return self.select(p);
@@ -581,28 +569,20 @@ impl<'a, 'db> Search<'a, 'db> {
                 !op.is_abstract && changes(op)
             })
         };
-        for &(_, sub) in &self.task.methods[m as usize].subtasks {
-            // The nearest step above (or `s` itself) with the same ground task decides.
-            let mut progress = primitive(m);
-            let mut cur = s;
-            loop {
-                if p.op_of(cur) == Some(sub) {
-                    let through_others = cur != s && !self.task.ops[sub as usize].args.is_empty();
-                    if !progress || through_others {
-                        return true;
-                    }
-                    break;
-                }
-                match p.steps[cur as usize].parent {
-                    Some(parent) => {
-                        progress |= p.steps[parent as usize].method.is_some_and(primitive);
-                        cur = parent;
-                    }
-                    None => break,
-                }
-            }
+        // `s` and its ancestors, each with whether an action that changes
+        // the state was added on the way down from it to `m`'s subtasks.
+        let mut above = vec![(s, primitive(m))];
+        while let Some(parent) = p.steps[above[above.len() - 1].0 as usize].parent {
+            let progress = above[above.len() - 1].1 || p.steps[parent as usize].method.is_some_and(primitive);
+            above.push((parent, progress));
         }
-        false
+        self.task.methods[m as usize].subtasks.iter().any(|&(_, sub)| {
+            // The nearest step above (or `s` itself) with the same ground task decides.
+            above.iter().find(|&&(cur, _)| p.op_of(cur) == Some(sub)).is_some_and(|&(cur, progress)| {
+                let through_others = cur != s && !self.task.ops[sub as usize].args.is_empty();
+                !progress || through_others
+            })
+        })
     }
 
     fn costliest(&self, p: &Plan, it: impl Iterator<Item = usize>) -> usize {
@@ -623,9 +603,8 @@ impl<'a, 'db> Search<'a, 'db> {
         let mut events: Vec<(f64, Tp, u32)> = Vec::new();
         for (s, step) in p.steps.iter().enumerate() {
             let prim = match step.kind {
-                Kind::Op(o) => !self.task.ops[o as usize].is_abstract,
                 Kind::Til(_) => true,
-                _ => false,
+                k => self.elementary(k),
             };
             if !prim {
                 continue;
@@ -724,7 +703,7 @@ impl<'a, 'db> Search<'a, 'db> {
             }
             Flaw::Late(til) => {
                 for step in p.steps.iter() {
-                    if matches!(step.kind, Kind::Op(o) if !self.task.ops[o as usize].is_abstract) {
+                    if self.elementary(step.kind) {
                         let mut c = p.clone();
                         if c.stn.add(til, step.end, EPS) {
                             out.push(c);

@@ -332,11 +332,7 @@ impl<'db> Compiler<'_, 'db> {
             Gd::Imply(_, _, s) => self.unsupported(item, *s, "an implication in a condition"),
             Gd::Forall(vars, inner, s) => {
                 // Over finitely many objects: the conjunction of its instances.
-                let domains: Vec<Vec<ObjId>> = vars
-                    .iter()
-                    .map(|v| self.g.objects.of_types(&crate::semantics::symbols::type_set(&v.ty)))
-                    .collect();
-                let count = domains.iter().fold(1usize, |n, d| n.saturating_mul(d.len()));
+                let (domains, count) = var_domains(self.g, vars);
                 if count > MAX_FORALL_INSTANCES {
                     self.unsupported(
                         item,
@@ -347,25 +343,11 @@ impl<'db> Compiler<'_, 'db> {
                     );
                     return;
                 }
-                if count == 0 {
-                    return; // vacuously true
-                }
-                let mut choice = vec![0usize; domains.len()];
-                'instances: loop {
+                each_binding(vars, &domains, |inst| {
                     let mut b2 = b.clone();
-                    b2.extend(
-                        vars.iter().zip(&domains).zip(&choice).map(|((v, d), &k)| (v.name.key.clone(), d[k])),
-                    );
+                    b2.extend(inst);
                     self.conds(item, inner, &b2, time, out, dead);
-                    for k in (0..choice.len()).rev() {
-                        choice[k] += 1;
-                        if choice[k] < domains[k].len() {
-                            continue 'instances;
-                        }
-                        choice[k] = 0;
-                    }
-                    break;
-                }
+                });
             }
             Gd::Exists(_, _, s) => self.unsupported(item, *s, "an existentially quantified condition"),
             other => self.unsupported(item, gd_span(other), "a condition the planner cannot follow"),
@@ -408,6 +390,29 @@ impl<'db> Compiler<'_, 'db> {
 
 fn binding(params: &[Typed], args: &[ObjId]) -> Binding {
     params.iter().zip(args).map(|(p, &o)| (p.name.key.clone(), o)).collect()
+}
+
+/// The objects of each variable's types, and how many bindings they make.
+fn var_domains(g: &Ground<'_>, vars: &[Typed]) -> (Vec<Vec<ObjId>>, usize) {
+    let domains: Vec<Vec<ObjId>> =
+        vars.iter().map(|v| g.objects.of_types(&crate::semantics::symbols::type_set(&v.ty))).collect();
+    let count = domains.iter().fold(1usize, |n, d| n.saturating_mul(d.len()));
+    (domains, count)
+}
+
+/// Calls `f` with every binding of `vars` to objects of their `domains`
+/// (none when a domain is empty), the last variable varying fastest.
+fn each_binding(vars: &[Typed], domains: &[Vec<ObjId>], mut f: impl FnMut(Binding)) {
+    if domains.iter().any(Vec::is_empty) {
+        return;
+    }
+    let mut choice = vec![0usize; domains.len()];
+    loop {
+        f(vars.iter().zip(domains).zip(&choice).map(|((v, d), &k)| (v.name.key.clone(), d[k])).collect());
+        let Some(k) = (0..choice.len()).rev().find(|&k| choice[k] + 1 < domains[k].len()) else { return };
+        choice[k] += 1;
+        choice[k + 1..].fill(0);
+    }
 }
 
 fn agents(params: &[Typed], agent: &[crate::model::Name], args: &[ObjId]) -> Vec<ObjId> {
@@ -692,12 +697,7 @@ pub fn compile<'db>(
         Some((item, h)) => {
             // `:htn :parameters`: every binding of them to objects of their
             // types is an initial task network to start from.
-            let domains: Vec<Vec<ObjId>> = h
-                .params
-                .iter()
-                .map(|p| g.objects.of_types(&crate::semantics::symbols::type_set(&p.ty)))
-                .collect();
-            let count = domains.iter().fold(1usize, |n, d| n.saturating_mul(d.len()));
+            let (domains, count) = var_domains(g, &h.params);
             if count > MAX_HTN_BINDINGS {
                 c.unsupported(
                     item,
@@ -707,43 +707,24 @@ pub fn compile<'db>(
             }
             let orders = network_orders(&mut c, item, &h.network);
             let mut nets = Vec::new();
-            let mut choice = vec![0usize; domains.len()];
             let mut missing = None;
-            // (No binding at all when a parameter's type has no object.)
-            'bindings: while (1..=MAX_HTN_BINDINGS).contains(&count) {
-                let b: Binding = h
-                    .params
-                    .iter()
-                    .zip(&domains)
-                    .zip(&choice)
-                    .map(|((p, d), &k)| (p.name.key.clone(), d[k]))
-                    .collect();
-                let mut net = Network { tasks: Vec::new(), orders: orders.clone() };
-                let mut complete = true;
-                for st in &h.network.subtasks {
-                    let args: Option<Vec<ObjId>> = st.call.args.iter().map(|t| c.term(t, &b)).collect();
-                    match args.and_then(|a| op_index.get(&(st.call.name.key.clone(), a.as_slice())).copied())
-                    {
-                        Some(op) => net.tasks.push((op, Loc { item, span: st.call.span })),
-                        None => {
-                            missing.get_or_insert(st.call.span);
-                            complete = false;
-                            break;
+            if count <= MAX_HTN_BINDINGS {
+                each_binding(&h.params, &domains, |b| {
+                    let mut net = Network { tasks: Vec::new(), orders: orders.clone() };
+                    for st in &h.network.subtasks {
+                        let args: Option<Vec<ObjId>> = st.call.args.iter().map(|t| c.term(t, &b)).collect();
+                        match args
+                            .and_then(|a| op_index.get(&(st.call.name.key.clone(), a.as_slice())).copied())
+                        {
+                            Some(op) => net.tasks.push((op, Loc { item, span: st.call.span })),
+                            None => {
+                                missing.get_or_insert(st.call.span);
+                                return;
+                            }
                         }
                     }
-                }
-                if complete {
                     nets.push(net);
-                }
-                // The next binding (odometer).
-                for k in (0..choice.len()).rev() {
-                    choice[k] += 1;
-                    if choice[k] < domains[k].len() {
-                        continue 'bindings;
-                    }
-                    choice[k] = 0;
-                }
-                break;
+                });
             }
             if nets.is_empty() && c.unsupported.is_empty() {
                 return Err(vec![Unsupported {
