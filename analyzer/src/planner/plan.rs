@@ -345,13 +345,20 @@ impl Plan {
             let until = if c.until == End::Start { start } else { end };
             let over_all = c.at == End::Start && c.until == End::End && !op.instant;
             if let Some(o) = opens.iter_mut().find(|o| o.lit == c.lit) {
+                // Needed just after the start (what the start makes true
+                // supports it) unless one of them is needed at the start
+                // itself; an `at end` one adds nothing to an `over all`.
+                if over_all {
+                    o.after_start |= o.need != start;
+                } else if need == start {
+                    o.after_start = false;
+                }
                 if need == start {
                     o.need = start;
                 }
                 if until == end {
                     o.until = end;
                 }
-                o.after_start &= over_all;
                 continue;
             }
             if !h.reachable(c.lit) && !task.holds_initially(c.lit) {
