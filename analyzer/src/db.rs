@@ -1,5 +1,5 @@
-//! The salsa database: inputs (file texts, the workspace) and the structure
-//! of a file (its `define` units and their items).
+//! The structure of a file: its parse, its `define` units and their items,
+//! each item's model. The inputs these queries read are in [`crate::input`].
 //!
 //! Incrementality rests on two decisions:
 //! - an item's syntax is its green tree, which has no absolute position, and
@@ -8,73 +8,16 @@
 //! - `:init` sections are split into chunks of facts, each an item, so that an
 //!   edit in one fact of a 5 MB problem re-checks one chunk.
 
-use std::sync::Arc;
-
 use rowan::{NodeOrToken, TextRange, TextSize};
 
 use crate::diagnostic::{Diagnostic, Severity, codes};
 use crate::model::{self, Lowered};
-use crate::syntax::{self, GList, GSexp, Green, List, Parse, SyntaxKind, TextEdit};
+use crate::syntax::{self, GList, GSexp, Green, List, Parse, SyntaxKind};
 
-/// The database trait every query takes.
-#[salsa::db]
-pub trait Db: salsa::Database {}
-
-/// A file: its path (for display and to find a problem's domain) and its text.
-#[salsa::input(debug)]
-pub struct SourceFile {
-    #[returns(ref)]
-    pub path: String,
-    #[returns(ref)]
-    pub text: Arc<str>,
-    /// The previous parse and the edits that led to `text`, when known: lets
-    /// [`parse`] re-parse only what changed. Never changes the result.
-    #[returns(ref)]
-    pub reparse_hint: Option<Arc<ReparseHint>>,
-}
-
-/// A previous parse and the edits applied since.
-#[derive(Debug)]
-pub struct ReparseHint {
-    pub base: Parse,
-    pub edits: Vec<TextEdit>,
-}
-
-/// The files that make up the workspace: a problem's domain is looked up among them.
-#[salsa::input(singleton, debug)]
-pub struct Workspace {
-    #[returns(ref)]
-    pub files: Vec<SourceFile>,
-}
-
-/// User settings of the analysis (command-line options, editor settings).
-#[salsa::input(singleton, debug)]
-pub struct Settings {
-    /// How much slower than a detour a direct move may be before the triangle
-    /// inequality of move durations is reported (Definition 14, property 6),
-    /// in the unit of durations.
-    #[returns(copy)]
-    pub triangle_tolerance: f64,
-    /// How plan files of the workspace are validated (tolerance, names).
-    #[returns(copy)]
-    pub plan_options: crate::validate::Options,
-}
-
-impl Settings {
-    /// VAL's default tolerance between happenings: durations computed from
-    /// distances rounded to two decimals differ from the exact sums by that much.
-    pub const DEFAULT_TRIANGLE_TOLERANCE: f64 = 0.01;
-}
-
-/// The triangle tolerance in force.
-pub fn triangle_tolerance(db: &dyn Db) -> f64 {
-    Settings::try_get(db).map_or(Settings::DEFAULT_TRIANGLE_TOLERANCE, |s| s.triangle_tolerance(db))
-}
-
-/// The plan-validation options in force.
-pub fn plan_options(db: &dyn Db) -> crate::validate::Options {
-    Settings::try_get(db).map_or_else(crate::validate::Options::default, |s| s.plan_options(db))
-}
+// The inputs, with the queries that read them: a query needs both.
+pub use crate::input::{
+    Db, ReparseHint, RootDatabase, Settings, SourceFile, Workspace, plan_options, triangle_tolerance,
+};
 
 /// Parses a file. Not compared for backdating: the tree changes whenever the text does.
 #[salsa::tracked(returns(ref), no_eq)]
@@ -344,11 +287,12 @@ pub fn lower_item<'db>(db: &'db dyn Db, item: Item<'db>) -> Lowered {
     }
 }
 
-/// Diagnostics about the file's top level: syntax errors and what is not a `define`.
+/// Diagnostics about a domain or problem file's top level: syntax errors and
+/// what is not a `define`. Plan files are read by [`crate::plan`] instead.
 #[salsa::tracked(returns(ref))]
 pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
     if is_plan_path(file.path(db)) {
-        return crate::validate::plan_file_diagnostics(db, file).clone();
+        return Vec::new();
     }
     let parse = parse(db, file);
     let mut out: Vec<Diagnostic> = parse
@@ -428,24 +372,3 @@ fn structure_error(file: SourceFile, range: TextRange, message: &str) -> Diagnos
         fix: None,
     }
 }
-
-/// The concrete database.
-#[salsa::db]
-#[derive(Clone, Default)]
-pub struct RootDatabase {
-    storage: salsa::Storage<Self>,
-}
-
-impl RootDatabase {
-    /// A database that reports every salsa event to `callback` (used by tests
-    /// that check what is re-executed).
-    pub fn with_event_callback(callback: Box<dyn Fn(salsa::Event) + Send + Sync + 'static>) -> Self {
-        RootDatabase { storage: salsa::Storage::new(Some(callback)) }
-    }
-}
-
-#[salsa::db]
-impl salsa::Database for RootDatabase {}
-
-#[salsa::db]
-impl Db for RootDatabase {}

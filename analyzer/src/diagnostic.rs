@@ -6,7 +6,7 @@
 
 use rowan::TextRange;
 
-use crate::db::SourceFile;
+use crate::input::SourceFile;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Severity {

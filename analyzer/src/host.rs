@@ -65,9 +65,9 @@ impl AnalysisHost {
 
     /// Sets how plan files of the workspace are validated (VAL's tolerance,
     /// lenient names); a negative or non-finite tolerance is replaced by the default.
-    pub fn set_plan_options(&mut self, mut options: crate::validate::Options) {
+    pub fn set_plan_options(&mut self, mut options: crate::input::ValidationOptions) {
         if !(options.tolerance.is_finite() && options.tolerance >= 0.0) {
-            options.tolerance = crate::validate::Options::DEFAULT_TOLERANCE;
+            options.tolerance = crate::input::ValidationOptions::DEFAULT_TOLERANCE;
         }
         let s = self.settings();
         if s.plan_options(&self.db) != options {
@@ -78,7 +78,11 @@ impl AnalysisHost {
     /// The settings input, created with the defaults the first time.
     fn settings(&mut self) -> Settings {
         *self.settings.get_or_insert_with(|| {
-            Settings::new(&self.db, Settings::DEFAULT_TRIANGLE_TOLERANCE, crate::validate::Options::default())
+            Settings::new(
+                &self.db,
+                Settings::DEFAULT_TRIANGLE_TOLERANCE,
+                crate::input::ValidationOptions::default(),
+            )
         })
     }
 
@@ -187,7 +191,7 @@ impl Analysis {
     /// Every diagnostic of a file: the checks and the model-verification lints.
     pub fn diagnostics(&self, file: SourceFile) -> Cancellable<Vec<Diagnostic>> {
         self.warm_up(file)?;
-        self.with_db(|db| crate::semantics::file_diagnostics(db, file).clone())
+        self.with_db(|db| crate::ide::diagnostics::file_diagnostics(db, file).clone())
     }
 
     /// The diagnostics of the syntax and semantic checks only: what the
@@ -195,7 +199,7 @@ impl Analysis {
     /// large problem) are computed.
     pub fn check_diagnostics(&self, file: SourceFile) -> Cancellable<Vec<Diagnostic>> {
         self.warm_up(file)?;
-        self.with_db(|db| crate::semantics::file_check_diagnostics(db, file).clone())
+        self.with_db(|db| crate::ide::diagnostics::file_check_diagnostics(db, file).clone())
     }
 
     /// Checks the items of a large file on every core before collecting its
@@ -301,7 +305,7 @@ impl Analysis {
         plan: SourceFile,
         format: Option<PlanFormat>,
         problem: SourceFile,
-        options: &crate::validate::Options,
+        options: &crate::input::ValidationOptions,
     ) -> Cancellable<Option<crate::validate::Validation>> {
         self.with_db(|db| {
             let unit = crate::db::file_units(db, problem)

@@ -10,6 +10,7 @@ pub mod diagnostic;
 pub mod fix;
 mod host;
 pub mod ide;
+pub mod input;
 pub mod model;
 pub mod plan;
 pub mod planner;

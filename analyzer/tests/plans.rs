@@ -437,7 +437,7 @@ proptest! {
 /// name: the problem file whose name is the longest prefix of the plan's.
 #[test]
 fn plan_files_in_the_workspace_are_plans_of_the_problem_their_name_starts_with() {
-    use hipop_analyzer::semantics::resolve::plan_problem;
+    use hipop_analyzer::plan::plan_problem;
     let mut host = hipop_analyzer::AnalysisHost::new();
     let domain = "(define (domain d) (:predicates (p)) (:action a :parameters () :effect (p)))";
     host.set_file_text("/w/domain.pddl", domain);

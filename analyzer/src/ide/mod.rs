@@ -1,6 +1,8 @@
-//! Editor features in byte offsets: document symbols, hover, go to definition,
-//! find references. Plain data out; the server converts to LSP.
+//! What the shells ask, in byte offsets: a file's diagnostics, document
+//! symbols, hover, go to definition, find references. Plain data out; the
+//! server converts to LSP.
 
+pub mod diagnostics;
 mod refs;
 
 use crate::model::Str;

@@ -20,8 +20,11 @@ pub mod diff;
 pub mod hierarchical;
 pub mod json;
 mod lines;
+mod problem;
 pub mod timeline;
 pub mod val;
+
+pub use problem::plan_problem;
 
 #[cfg(test)]
 mod tests;

@@ -19,11 +19,12 @@ use check::{Feature, ItemDiag, check_item};
 use resolve::{Resolution, problems_of, resolve_domain};
 use symbols::{Loc, domain_symbols, problem_symbols};
 
-/// The diagnostics of a file's syntax and semantic checks, sorted by
-/// position: fast (per item, incremental), without the model-verification
-/// lints, which may ground a problem (see [`file_diagnostics`]).
-#[salsa::tracked(returns(ref))]
-pub fn file_check_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
+/// The diagnostics of a domain or problem file's syntax and semantic checks,
+/// sorted by position: fast (per item, incremental), without the
+/// model-verification lints, which may ground a problem. Plan files, and the
+/// lints, are added by the layers above (`ide::diagnostics`, which
+/// memoises the result).
+pub fn file_checks(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
     let mut out = file_level_diagnostics(db, file).clone();
     for &unit in file_units(db, file) {
         out.extend(unit_diagnostics(db, unit).iter().cloned());
@@ -31,28 +32,8 @@ pub fn file_check_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> 
     finish(db, file, out)
 }
 
-/// Every diagnostic of a file, sorted by position: the checks and the
-/// model-verification lints.
-#[salsa::tracked(returns(ref))]
-pub fn file_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
-    let mut out = file_check_diagnostics(db, file).clone();
-    for &unit in file_units(db, file) {
-        // A domain's own lints, and those its problems (open or in the
-        // workspace) find in it; a problem's lints.
-        let lints = crate::verify::domain_lints(db, unit).iter();
-        let problems: &[Unit<'_>] = match unit.kind(db) {
-            UnitKind::Domain => problems_of(db, unit),
-            UnitKind::Problem => std::slice::from_ref(&unit),
-            UnitKind::Unknown => &[],
-        };
-        let lints = lints.chain(problems.iter().flat_map(|&p| crate::verify::problem_lints(db, p)));
-        out.extend(lints.map(|l| l.to_diagnostic(db)).filter(|d| d.file == file));
-    }
-    finish(db, file, out)
-}
-
 /// Sorted, without duplicates, without what `; hipop-allow` comments silence.
-fn finish(db: &dyn Db, file: SourceFile, mut out: Vec<Diagnostic>) -> Vec<Diagnostic> {
+pub fn finish(db: &dyn Db, file: SourceFile, mut out: Vec<Diagnostic>) -> Vec<Diagnostic> {
     out.sort_by_key(|d| (d.range.start(), d.range.end(), d.code.id));
     out.dedup();
     suppress::apply(file.text(db), &mut out);

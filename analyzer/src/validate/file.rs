@@ -101,11 +101,11 @@ pub fn validate_plan<'db>(
 
 /// The diagnostics of a plan file of the workspace: reading it, and
 /// validating it against its problem when one is found
-/// ([`crate::semantics::resolve::plan_problem`]) with the options of the
+/// ([`crate::plan::plan_problem`]) with the options of the
 /// analysis's settings.
 #[salsa::tracked(returns(ref))]
 pub fn plan_file_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
-    match crate::semantics::resolve::plan_problem(db, file) {
+    match crate::plan::plan_problem(db, file) {
         Some(problem) => validate_plan(db, file, None, problem, &crate::db::plan_options(db)).diagnostics,
         None => crate::plan::parse_plan(db, file).file_diagnostics(file),
     }

@@ -48,6 +48,7 @@ pub mod file;
 pub mod hierarchy;
 mod temporal;
 
+pub use crate::input::ValidationOptions as Options;
 pub use file::{Validation, plan_file_diagnostics, timed_steps, validate_plan};
 
 use rowan::TextRange;
@@ -107,39 +108,6 @@ impl TimedStep {
         }
         s.push(')');
         s
-    }
-}
-
-/// How to validate.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Options {
-    /// VAL's `-t`: events closer than `tolerance / 10` are one happening;
-    /// durations may miss their constraint by less than it. Default 0.01.
-    pub tolerance: f64,
-    /// Besides case, `-` and `_` in names are interchangeable (planners
-    /// mangle names; pandaPIparser's `-l`).
-    pub lenient: bool,
-    /// Keep executing after a failed happening (VAL's `-c`), applying its
-    /// effects anyway, to find later failures. Later failures may be
-    /// consequences of the first.
-    pub keep_going: bool,
-    /// Hierarchical plans: accept a decomposition's subtasks listed in any
-    /// order, not only one the method's ordering allows (pandaPIparser's `-o`).
-    pub ignore_listed_order: bool,
-}
-
-impl Options {
-    pub const DEFAULT_TOLERANCE: f64 = 0.01;
-}
-
-impl Default for Options {
-    fn default() -> Self {
-        Options {
-            tolerance: Options::DEFAULT_TOLERANCE,
-            lenient: false,
-            keep_going: false,
-            ignore_listed_order: false,
-        }
     }
 }
 
