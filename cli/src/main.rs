@@ -85,7 +85,50 @@ enum Command {
     /// not support).
     Plan(PlanArgs),
     /// Run the language server on standard input and output (for editors).
-    Lsp,
+    ///
+    /// Exit status: 0 after the client's `exit` or the end of standard input,
+    /// 2 on a usage error (such as a transport other than standard input and
+    /// output) or an I/O error.
+    Lsp(LspArgs),
+}
+
+/// The transports of the language server convention: clients add one of
+/// `--stdio`, `--pipe=NAME`, `--socket=PORT` or `--node-ipc` to the server's
+/// command line (vscode-languageclient does, by its `transport` option).
+/// hipop serves standard input and output only: `--stdio` is accepted, the
+/// others are refused with a message that says so rather than as unknown
+/// arguments.
+#[derive(Debug, clap::Args)]
+struct LspArgs {
+    /// Serve on standard input and output: the default and the only
+    /// transport (language clients pass it).
+    #[arg(long)]
+    stdio: bool,
+    /// Refused: a named pipe or Unix socket to connect to.
+    #[arg(long, value_name = "NAME", hide = true)]
+    pipe: Option<String>,
+    /// Refused: a TCP port to connect to.
+    #[arg(long, value_name = "PORT", hide = true)]
+    socket: Option<String>,
+    /// Refused: Node.js's IPC channel.
+    #[arg(long = "node-ipc", hide = true)]
+    node_ipc: bool,
+}
+
+impl LspArgs {
+    /// The transport asked for other than standard input and output, as
+    /// written on the command line.
+    fn unsupported_transport(&self) -> Option<String> {
+        if let Some(name) = &self.pipe {
+            Some(format!("--pipe={name}"))
+        } else if let Some(port) = &self.socket {
+            Some(format!("--socket={port}"))
+        } else if self.node_ipc {
+            Some("--node-ipc".to_owned())
+        } else {
+            None
+        }
+    }
 }
 
 #[derive(Debug, clap::Args)]
@@ -378,12 +421,30 @@ fn main() -> ExitCode {
             };
             ExitCode::from(plan::run(&args.domain, &args.problem, &options))
         }
-        Command::Lsp => match hipop_lsp::run_stdio() {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("hipop lsp: {e}");
-                ExitCode::from(2)
+        Command::Lsp(args) => {
+            if let Some(transport) = args.unsupported_transport() {
+                let mut cli = <Cli as clap::CommandFactory>::command();
+                cli.build();
+                let lsp = cli.find_subcommand_mut("lsp").expect("the lsp subcommand exists");
+                lsp.error(
+                    clap::error::ErrorKind::ArgumentConflict,
+                    format!(
+                        "`{transport}`: hipop lsp serves only standard input and output (drop the argument, or pass `--stdio`)"
+                    ),
+                )
+                .exit();
             }
-        },
+            run_lsp()
+        }
+    }
+}
+
+fn run_lsp() -> ExitCode {
+    match hipop_lsp::run_stdio() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("hipop lsp: {e}");
+            ExitCode::from(2)
+        }
     }
 }
