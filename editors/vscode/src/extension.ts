@@ -2,11 +2,14 @@
 
 import * as vscode from 'vscode';
 import {
+  CloseAction,
   DocumentFilter,
+  ErrorAction,
+  ErrorHandler,
+  Executable,
   LanguageClient,
   LanguageClientOptions,
   ServerOptions,
-  TransportKind,
 } from 'vscode-languageclient/node';
 import { resolveServerCommand } from './serverPath';
 
@@ -113,28 +116,36 @@ async function start(): Promise<void> {
     return;
   }
 
-  const args = ['lsp', ...extraArgs];
-  outputChannel.appendLine(`Starting ${resolved.command} ${args.join(' ')}`);
+  const executable = serverExecutable(resolved.command, extraArgs, cwd);
+  const commandLine = [executable.command, ...(executable.args ?? [])].join(' ');
+  outputChannel.appendLine(`Starting ${commandLine}`);
 
-  const executable = {
-    command: resolved.command,
-    args,
-    transport: TransportKind.stdio,
-    options: cwd ? { cwd } : undefined,
-  };
   const serverOptions: ServerOptions = { run: executable, debug: executable };
+  const stderr = new StderrTap(outputChannel);
+  const errors = new StartErrors();
   const clientOptions: LanguageClientOptions = {
     documentSelector: DOCUMENT_SELECTOR,
-    outputChannel,
+    outputChannel: stderr.channel,
     traceOutputChannel: traceChannel,
+    // A failed start is reported once, below, with what the server printed.
+    initializationFailedHandler: () => false,
+    errorHandler: errors,
   };
 
-  const next = new LanguageClient(CLIENT_ID, CLIENT_NAME, serverOptions, clientOptions);
+  const next = new HipopClient(serverOptions, clientOptions, errors);
+  errors.afterStart = next.createDefaultErrorHandler();
   client = next;
   try {
     await next.start();
+    if (!next.isRunning()) {
+      // vscode-languageclient 9 resolves `start` when the connection
+      // closes while it starts (the server exited at once).
+      throw errors.lastError ?? new Error('the connection to the server closed while it started');
+    }
+    errors.starting = false;
   } catch (err) {
-    outputChannel.appendLine(`Failed to start ${resolved.command}: ${String(err)}`);
+    // (`errors.starting` stays true: this client is disposed, quietly.)
+    outputChannel.appendLine(`Failed to start ${commandLine}: ${String(err)}`);
     if (client === next) {
       client = undefined;
     }
@@ -143,9 +154,111 @@ async function start(): Promise<void> {
     } catch {
       // ignore
     }
+    // The server's last words may still be in the pipe when the write to
+    // its closed stdin fails.
+    await new Promise((resolve) => setTimeout(resolve, STDERR_GRACE_MS));
+    const said = stderr.firstLine();
     void showStartError(
-      `hipop: the language server '${resolved.command} ${args.join(' ')}' failed to start: ${errorMessage(err)}. Check the "hipop.server.path" and "hipop.server.extraArgs" settings.`,
+      `hipop: the language server '${commandLine}' failed to start: ${said ? `it said "${said}"` : errorMessage(err)}. Check the "hipop.server.path" and "hipop.server.extraArgs" settings.`,
     );
+  }
+}
+
+/**
+ * How the server is run: `hipop lsp <extraArgs...>`, on standard input and
+ * output. No `transport` is given: with `TransportKind.stdio`,
+ * vscode-languageclient appends `--stdio`, which a `hipop` built before the
+ * flag was accepted refuses (exit 2: no server at all); without it the
+ * client still speaks over stdio, and the command line is exactly the one
+ * logged and documented.
+ */
+export function serverExecutable(command: string, extraArgs: string[], cwd: string | undefined): Executable {
+  return { command, args: ['lsp', ...extraArgs], options: cwd ? { cwd } : undefined };
+}
+
+/**
+ * While the server starts, a broken connection (a server that exited at
+ * once: "write EPIPE") is neither shown nor restarted: `start` rejects, and
+ * one message says what the server printed. Once it runs, the client's
+ * default handling (restarts, then a message) applies.
+ */
+class StartErrors implements ErrorHandler {
+  starting = true;
+  afterStart: ErrorHandler | undefined;
+  /** The last connection error while starting. */
+  lastError: Error | undefined;
+
+  error(...args: Parameters<ErrorHandler['error']>): ReturnType<ErrorHandler['error']> {
+    if (this.starting || !this.afterStart) {
+      this.lastError = args[0];
+      return { action: ErrorAction.Shutdown, handled: true };
+    }
+    return this.afterStart.error(...args);
+  }
+
+  closed(): ReturnType<ErrorHandler['closed']> {
+    if (this.starting || !this.afterStart) {
+      return { action: CloseAction.DoNotRestart, handled: true };
+    }
+    return this.afterStart.closed();
+  }
+}
+
+/**
+ * The language client, whose own messages only go to the output channel
+ * while the server starts (vscode-languageclient shows "couldn't create
+ * connection to server" and "write EPIPE" for a server that exited at once;
+ * `start` then reports the failure once, with what the server said).
+ */
+class HipopClient extends LanguageClient {
+  constructor(
+    serverOptions: ServerOptions,
+    clientOptions: LanguageClientOptions,
+    private readonly startErrors: StartErrors,
+  ) {
+    super(CLIENT_ID, CLIENT_NAME, serverOptions, clientOptions);
+  }
+
+  override error(message: string, data?: unknown, showNotification: boolean | 'force' = true): void {
+    super.error(message, data, this.startErrors.starting ? false : showNotification);
+  }
+}
+
+/** How long a failed start waits for the server's standard error. */
+const STDERR_GRACE_MS = 250;
+
+/**
+ * The output channel given to the client, which also keeps the start of
+ * the server's standard error: vscode-languageclient writes the server's
+ * stderr with `append` and its own messages with `appendLine`.
+ */
+class StderrTap {
+  private text = '';
+  readonly channel: vscode.OutputChannel;
+
+  constructor(target: vscode.OutputChannel) {
+    this.channel = new Proxy(target, {
+      get: (obj, prop, receiver) => {
+        if (prop === 'append') {
+          return (value: string) => {
+            if (this.text.length < 4096) {
+              this.text += value;
+            }
+            obj.append(value);
+          };
+        }
+        const value = Reflect.get(obj, prop, receiver);
+        return typeof value === 'function' ? value.bind(obj) : value;
+      },
+    });
+  }
+
+  /** The first non-empty line the server wrote to stderr, if any. */
+  firstLine(): string | undefined {
+    return this.text
+      .split(/\r?\n/)
+      .map((line) => line.trim())
+      .find((line) => line.length > 0);
   }
 }
 
