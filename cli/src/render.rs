@@ -260,7 +260,6 @@ impl Rendered<'_> {
                 "tool": { "driver": {
                     "name": "hipop",
                     "version": env!("CARGO_PKG_VERSION"),
-                    "informationUri": "https://example.invalid/hipop",
                     "rules": rules,
                 } },
                 "columnKind": "unicodeCodePoints",

@@ -171,3 +171,31 @@ test('the compiled entry point exists and exports activate/deactivate', () => {
   assert.match(src, /exports\.activate = activate/);
   assert.match(src, /exports\.deactivate = deactivate/);
 });
+
+// `vsce package` stops on a relative link in README.md unless it can tell
+// the repository to rewrite it against; hipop names no public repository.
+test('README.md, shown in the extension view, has no relative link', () => {
+  const readme = fs.readFileSync(path.join(ROOT, 'README.md'), 'utf8');
+  const relative = [...readme.matchAll(/!?\[[^\]]*\]\(([^)\s]+)[^)]*\)|<(?:a|img)\s[^>]*(?:href|src)="([^"]+)"/g)]
+    .map((m) => m[1] ?? m[2])
+    .filter((target) => !/^(https?:|mailto:|#)/.test(target));
+  assert.deepEqual(relative, []);
+});
+
+test('package.json names no placeholder repository', () => {
+  assert.ok(!JSON.stringify(pkg).includes('example.invalid'), 'a placeholder address');
+  if (pkg.repository !== undefined) {
+    const url = typeof pkg.repository === 'string' ? pkg.repository : pkg.repository.url;
+    assert.match(url, /^https:\/\//);
+  }
+});
+
+test('.vscodeignore leaves the tests and the end-to-end test out of the .vsix', () => {
+  const ignored = fs
+    .readFileSync(path.join(ROOT, '.vscodeignore'), 'utf8')
+    .split('\n')
+    .map((l) => l.trim());
+  for (const folder of ['src/**', 'test/**', 'e2e/**']) {
+    assert.ok(ignored.includes(folder), folder);
+  }
+});
