@@ -3,7 +3,9 @@
 #   - editors/helix/languages.toml parses as TOML and declares the hipop-pddl,
 #     hipop-plan and hipop-plan-json languages with the hipop server; the
 #     queries it needs exist (needs python3 >= 3.11)
-#   - editors/vscode: npm ci && npm run compile && npm test
+#   - editors/vscode: npm ci && npm run compile && npm test; the end-to-end
+#     test in a real VS Code (editors/vscode/e2e/run, run before each
+#     release: it installs code-server) is only checked to parse here
 # Exits non-zero on any failure. Missing node/npm (or python3 >= 3.11) is
 # reported as SKIP and does not fail the run.
 set -euo pipefail
@@ -56,3 +58,6 @@ cd "$here/vscode"
 npm ci --no-audit --no-fund
 npm run compile
 npm test
+bash -n e2e/run
+node --check e2e/e2e.test.js
+echo "ok: e2e/run and e2e/e2e.test.js parse (the end-to-end test itself runs before each release)"
