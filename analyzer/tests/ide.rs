@@ -46,3 +46,32 @@ fn hover_on_a_rejected_candidate_says_which_property_fails() {
     assert!(h.contains("is not a position family"), "{h}");
     insta::assert_snapshot!(h);
 }
+
+/// Every section of the outline is selected by its keyword (`:predicates`),
+/// not by its `(`; a long `:init`, split in chunks, by the keyword of its first.
+#[test]
+fn document_symbols_select_a_section_by_its_keyword() {
+    let mut host = AnalysisHost::new();
+    let domain = "(define (domain d)\n  (:requirements :typing)\n  ( :types robot)\n  (:predicates (at ?r - robot))\n  (:functions (f))\n  (:action go :parameters (?r - robot) :effect (at ?r)))\n";
+    let facts: String = (0..1500).map(|i| format!(" (at r{i})")).collect();
+    let objects: String = (0..1500).map(|i| format!(" r{i}")).collect();
+    let problem = format!(
+        "(define (problem p) (:domain d)\n  (:objects{objects} - robot)\n  (:init{facts})\n  (:goal (at r0)))\n"
+    );
+    let short = "(define (problem q) (:domain d) (:objects a - robot) (:init (at a)) (:goal (at a)))\n";
+    let files = [("w/d.pddl", domain.to_string()), ("w/p.pddl", problem), ("w/q.pddl", short.to_string())];
+    let ids: Vec<_> = files.iter().map(|(path, text)| host.set_file_text(path, text.as_str())).collect();
+    let analysis = host.analysis();
+    let mut seen = Vec::new();
+    for (id, (_, text)) in ids.into_iter().zip(&files) {
+        for unit in analysis.document_symbols(id).unwrap() {
+            for s in unit.children.iter().filter(|s| s.kind == hipop_analyzer::ide::SymbolKind::Section) {
+                let selected = &text[s.selection_range];
+                assert_eq!(selected, s.name, "{} {:?}", s.name, s.selection_range);
+                assert!(s.range.contains_range(s.selection_range), "{}", s.name);
+                seen.push(s.name.clone());
+            }
+        }
+    }
+    assert_eq!(seen, [":types", ":predicates", ":functions", ":objects", ":init", ":goal", ":objects", ":init", ":goal"]);
+}

@@ -91,6 +91,9 @@ fn a_full_session() {
         .filter_map(|c| c["name"].as_str())
         .collect();
     assert!(children.contains(&"pick-up") && children.contains(&":predicates"), "{children:?}");
+    // A section is selected by its keyword, not by its `(`.
+    let predicates = symbols[0]["children"].as_array().unwrap().iter().find(|c| c["name"] == ":predicates");
+    assert_eq!(predicates.expect(":predicates")["selectionRange"], range(4, 3, 4, 14));
 
     client.shutdown();
 }

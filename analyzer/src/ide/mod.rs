@@ -10,11 +10,12 @@ use rowan::{TextRange, TextSize};
 
 pub use refs::{Occurrence, RefKind, occurrences};
 
-use crate::db::{Db, Item, Section, SourceFile, Unit, UnitKind, file_units, lower_item};
+use crate::db::{Db, Item, ItemSyntax, Section, SourceFile, Unit, UnitKind, file_units, lower_item};
 use crate::model::{ActionKind, ItemData, TypeRef};
 use crate::semantics::check::domain_for;
 use crate::semantics::resolve::problems_of;
 use crate::semantics::symbols::{Loc, SigDecl, domain_symbols, problem_symbols};
+use crate::syntax::Lang;
 
 /// The absolute range of an item.
 pub fn item_range(db: &dyn Db, item: Item<'_>) -> TextRange {
@@ -79,12 +80,14 @@ pub fn document_symbols(db: &dyn Db, file: SourceFile) -> Vec<DocumentSymbol> {
                 selection_range: span + off,
                 children: Vec::new(),
             };
+            // A section is selected by its keyword (`:predicates`).
+            let keyword = section_keyword(db, item).unwrap_or(TextRange::at(range.start(), 1.into()));
             let section = |name: &str, kids: Vec<DocumentSymbol>| DocumentSymbol {
                 name: name.to_string(),
                 detail: None,
                 kind: SymbolKind::Section,
                 range,
-                selection_range: TextRange::at(range.start(), 1.into()),
+                selection_range: keyword,
                 children: kids,
             };
             match &lower_item(db, item).data {
@@ -137,7 +140,6 @@ pub fn document_symbols(db: &dyn Db, file: SourceFile) -> Vec<DocumentSymbol> {
                     let whole = chunks.iter().fold(chunks[0], |a, b| a.cover(*b));
                     let mut s = section(":init", Vec::new());
                     s.range = whole;
-                    s.selection_range = TextRange::at(whole.start(), 1.into());
                     children.push(s);
                 }
                 ItemData::Goal(_) => children.push(section(":goal", Vec::new())),
@@ -156,6 +158,33 @@ pub fn document_symbols(db: &dyn Db, file: SourceFile) -> Vec<DocumentSymbol> {
         });
     }
     out
+}
+
+/// The absolute range of the keyword that heads an item (`:predicates`, the
+/// `:init` of the first chunk of an `:init`): the first atom of its syntax,
+/// seeing through the groups of a long list, before any nested list.
+fn section_keyword(db: &dyn Db, item: Item<'_>) -> Option<TextRange> {
+    fn first_atom(node: &rowan::GreenNodeData, mut at: TextSize) -> Result<TextRange, bool> {
+        for child in node.children() {
+            let kind = <Lang as rowan::Language>::kind_from_raw(child.kind());
+            match child {
+                rowan::NodeOrToken::Token(t) if kind.is_atom() => return Ok(TextRange::at(at, t.text_len())),
+                rowan::NodeOrToken::Node(n) if kind == crate::syntax::SyntaxKind::Group => {
+                    // `Err(true)`: a nested list ends the search.
+                    match first_atom(n, at) {
+                        Err(false) => {}
+                        found => return found,
+                    }
+                }
+                rowan::NodeOrToken::Node(_) => return Err(true),
+                rowan::NodeOrToken::Token(_) => {}
+            }
+            at += child.text_len();
+        }
+        Err(false)
+    }
+    let (ItemSyntax::List(green) | ItemSyntax::Chunk { node: green, .. }) = item.syntax(db);
+    first_atom(&green.0, item.offset(db)).ok()
 }
 
 /// The item of a file that contains `offset`.
