@@ -73,5 +73,8 @@ fn document_symbols_select_a_section_by_its_keyword() {
             }
         }
     }
-    assert_eq!(seen, [":types", ":predicates", ":functions", ":objects", ":init", ":goal", ":objects", ":init", ":goal"]);
+    assert_eq!(
+        seen,
+        [":types", ":predicates", ":functions", ":objects", ":init", ":goal", ":objects", ":init", ":goal"]
+    );
 }

@@ -13,6 +13,7 @@ mod line_index;
 mod requests;
 mod server;
 mod session;
+mod watch;
 mod workspace;
 
 use std::time::Duration;

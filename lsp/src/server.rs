@@ -16,6 +16,7 @@ use tower_lsp_server::{Client, LanguageServer};
 use crate::diagnostics::{self, When};
 use crate::requests::{self, Outcome, guarded};
 use crate::session::Session;
+use crate::watch::{self, DiskWatcher};
 use crate::workspace::{self, Scan};
 use crate::{capabilities, convert, features};
 
@@ -29,27 +30,34 @@ impl Backend {
         Backend { client, session: Arc::default() }
     }
 
-    /// Changes the session in one critical section, panic-guarded, then
-    /// schedules diagnostics for the new state.
     async fn mutate(
         &self,
         what: &str,
         when: When,
         f: impl FnOnce(&mut Session) -> std::result::Result<(), String>,
     ) {
-        let result = {
-            let mut session = self.session.lock().await;
-            let result = match guarded(|| Ok(f(&mut session))) {
-                Outcome::Done(result) => result,
-                Outcome::Panicked(message) => Err(format!("hipop: {what} failed: {message}")),
-                Outcome::Cancelled => Ok(()),
-            };
-            diagnostics::schedule(&self.client, &self.session, session.generation(), when);
-            result
+        mutate(&self.client, &self.session, what, when, f).await
+    }
+
+    /// Watches the folders loaded from disk, for a client that does not.
+    async fn watch_disk(&self) {
+        let (disk, changes) = match DiskWatcher::new() {
+            Ok(watcher) => watcher,
+            Err(e) => {
+                let message = format!("hipop: cannot watch files for changes on disk: {e}");
+                self.client.log_message(MessageType::WARNING, message).await;
+                return;
+            }
         };
-        if let Err(message) = result {
-            self.client.log_message(MessageType::WARNING, message).await;
-        }
+        tokio::spawn(watch::run(self.client.clone(), self.session.clone(), changes));
+        let mut count = 0;
+        self.mutate("watching files", When::Now, |s| {
+            count = s.start_watching(disk);
+            Ok(())
+        })
+        .await;
+        let message = format!("hipop: watching {count} folders for changes on disk");
+        self.client.log_message(MessageType::INFO, message).await;
     }
 
     /// Reads folders from disk on a blocking thread, then loads them.
@@ -63,11 +71,12 @@ impl Backend {
             for root in &roots {
                 workspace::scan(root, true, &mut budget, &mut scan);
             }
-            (scan, budget)
+            (scan, budget, roots)
         });
-        let Ok((scan, budget)) = read.await else { return };
+        let Ok((scan, budget, roots)) = read.await else { return };
         let count = scan.files.len();
         self.mutate("loading the workspace", When::Now, |s| {
+            s.add_roots(&roots);
             s.load(scan, budget);
             Ok(())
         })
@@ -77,6 +86,33 @@ impl Backend {
             message.push_str(" (stopped at the limit of 2000 files, 64 MB or 20000 folders)");
         }
         self.client.log_message(MessageType::INFO, message).await;
+    }
+}
+
+/// Changes the session in one critical section, panic-guarded, then
+/// schedules diagnostics for the new state.
+pub(crate) async fn mutate(
+    client: &Client,
+    session: &Arc<Mutex<Session>>,
+    what: &str,
+    when: When,
+    f: impl FnOnce(&mut Session) -> std::result::Result<(), String>,
+) {
+    let (result, warnings) = {
+        let mut state = session.lock().await;
+        let result = match guarded(|| Ok(f(&mut state))) {
+            Outcome::Done(result) => result,
+            Outcome::Panicked(message) => Err(format!("hipop: {what} failed: {message}")),
+            Outcome::Cancelled => Ok(()),
+        };
+        diagnostics::schedule(client, session, state.generation(), when);
+        (result, state.take_warnings())
+    };
+    if let Err(message) = result {
+        client.log_message(MessageType::WARNING, message).await;
+    }
+    for warning in warnings {
+        client.log_message(MessageType::WARNING, format!("hipop: {warning}")).await;
     }
 }
 
@@ -103,9 +139,11 @@ impl LanguageServer for Backend {
     }
 
     /// Asks the client to report changes of PDDL/HDDL files on disk, so that a
-    /// domain edited elsewhere (or by `git checkout`) is reread.
+    /// domain edited elsewhere (or by `git checkout`) is reread; watches the
+    /// disk itself when the client cannot or will not.
     async fn initialized(&self, _: InitializedParams) {
         if !self.session.lock().await.watch_files() {
+            self.watch_disk().await;
             return;
         }
         let options = DidChangeWatchedFilesRegistrationOptions {
@@ -120,7 +158,9 @@ impl LanguageServer for Backend {
             register_options: serde_json::to_value(options).ok(),
         };
         if let Err(e) = self.client.register_capability(vec![registration]).await {
-            self.client.log_message(MessageType::WARNING, format!("hipop: cannot watch files: {e}")).await;
+            let message = format!("hipop: the client does not watch files ({e}); the server does");
+            self.client.log_message(MessageType::INFO, message).await;
+            self.watch_disk().await;
         }
     }
 

@@ -16,6 +16,7 @@ use tower_lsp_server::ls_types::{self as lsp, TextDocumentContentChangeEvent, Ur
 use crate::convert::{Files, file_key};
 use crate::document::{Applied, Document};
 use crate::line_index::{Encoding, LineIndex};
+use crate::watch::{DiskChanges, DiskWatcher, Known};
 use crate::workspace::{self, Budget, Scan};
 
 pub(crate) struct Session {
@@ -30,6 +31,12 @@ pub(crate) struct Session {
     budget: Budget,
     /// Folders already loaded from disk.
     scanned: HashSet<PathBuf>,
+    /// The workspace folders (loaded recursively).
+    roots: Vec<PathBuf>,
+    /// The server's own watches of `scanned`, when the client does not watch files.
+    disk: Option<DiskWatcher>,
+    /// Problems to report to the user, taken after each change.
+    warnings: Vec<String>,
     /// What was last published per document, to skip identical re-publications.
     published: HashMap<Uri, (i32, Vec<lsp::Diagnostic>)>,
 }
@@ -70,6 +77,9 @@ impl Default for Session {
             generation: 0,
             budget: Budget::default(),
             scanned: HashSet::new(),
+            roots: Vec::new(),
+            disk: None,
+            warnings: Vec::new(),
             published: HashMap::new(),
         }
     }
@@ -102,9 +112,28 @@ impl Session {
         self.open.contains_key(key)
     }
 
+    /// The problems met since last asked (a folder that cannot be watched).
+    pub(crate) fn take_warnings(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.warnings)
+    }
+
+    /// Records workspace folders, whose new subfolders are loaded when they appear.
+    pub(crate) fn add_roots(&mut self, roots: &[PathBuf]) {
+        for root in roots {
+            if !self.roots.contains(root) {
+                self.roots.push(root.clone());
+            }
+        }
+    }
+
     /// Loads files read from disk; open documents keep their editor text.
     pub(crate) fn load(&mut self, scan: Scan, budget: Budget) {
         self.budget = budget;
+        if let Some(disk) = &mut self.disk
+            && let Some(failure) = disk.watch(&scan.dirs)
+        {
+            self.warnings.push(failure);
+        }
         self.scanned.extend(scan.dirs);
         for (key, text) in scan.files {
             if !self.is_open(&key) {
@@ -116,16 +145,77 @@ impl Session {
 
     /// Forgets the files under a folder no longer in the workspace, unless open.
     pub(crate) fn unload(&mut self, root: &Path) {
+        self.forget_under(root);
+        self.roots.retain(|r| !r.starts_with(root));
+        self.generation += 1;
+    }
+
+    /// Forgets the files and folders under `root` (or the file `root`), except open documents.
+    fn forget_under(&mut self, root: &Path) {
         let gone: Vec<String> = self
             .host
             .files()
             .map(|(key, _)| key.to_string())
             .filter(|key| Path::new(key).starts_with(root) && !self.is_open(key))
             .collect();
-        for key in gone {
-            self.host.remove_file(&key);
+        for key in &gone {
+            self.host.remove_file(key);
         }
         self.scanned.retain(|dir| !dir.starts_with(root));
+        if let Some(disk) = &mut self.disk {
+            disk.unwatch_under(root);
+        }
+    }
+
+    /// Starts watching the folders loaded from disk, and those loaded later.
+    pub(crate) fn start_watching(&mut self, mut disk: DiskWatcher) -> usize {
+        if let Some(failure) = disk.watch(&self.scanned) {
+            self.warnings.push(failure);
+        }
+        let count = disk.len();
+        self.disk = Some(disk);
+        count
+    }
+
+    /// What the file watcher needs to decide what to read.
+    pub(crate) fn known(&self) -> Known {
+        Known {
+            roots: self.roots.clone(),
+            scanned: self.scanned.clone(),
+            files: self
+                .host
+                .files()
+                .map(|(key, _)| PathBuf::from(key))
+                .filter(|p| p.is_absolute() && !self.is_open(&p.to_string_lossy()))
+                .collect(),
+            budget: self.budget,
+        }
+    }
+
+    /// Applies what the file watcher found on disk. Open documents keep the
+    /// editor's text; a new file is loaded only within the budget.
+    pub(crate) fn apply_disk_changes(&mut self, changes: DiskChanges) {
+        if !changes.scan.dirs.is_empty() || !changes.scan.files.is_empty() {
+            self.load(changes.scan, changes.budget);
+        }
+        for path in &changes.gone {
+            self.forget_under(path);
+        }
+        for (key, text) in changes.files {
+            if self.is_open(&key) {
+                continue;
+            }
+            if self.host.file(&key).is_none() {
+                if self.budget.files == 0 || text.len() as u64 > self.budget.bytes {
+                    self.budget.exhausted = true;
+                    continue;
+                }
+                self.budget.files -= 1;
+                self.budget.bytes -= text.len() as u64;
+            }
+            // Unchanged texts are left as they are (the host compares).
+            self.host.set_file_text(&key, text);
+        }
         self.generation += 1;
     }
 

@@ -66,7 +66,7 @@ pub(crate) fn is_source(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("pddl") || e.eq_ignore_ascii_case("hddl"))
 }
 
-fn is_skipped_dir(path: &Path) -> bool {
+pub(crate) fn is_skipped_dir(path: &Path) -> bool {
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
     name.starts_with('.') || SKIPPED_DIRS.contains(&name)
 }
@@ -106,12 +106,17 @@ fn read_file(path: &Path, len: u64, budget: &mut Budget, out: &mut Scan) {
         budget.exhausted = true;
         return;
     }
-    let Ok(bytes) = std::fs::read(path) else { return };
+    let Some(text) = read_text(path) else { return };
     budget.files -= 1;
-    budget.bytes = budget.bytes.saturating_sub(bytes.len() as u64);
-    let text =
-        String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
+    budget.bytes = budget.bytes.saturating_sub(text.len() as u64);
     out.files.push((path.to_string_lossy().into_owned(), text));
+}
+
+/// A file's text; bytes that are not UTF-8 are replaced (the diagnostics
+/// still locate the rest).
+pub(crate) fn read_text(path: &Path) -> Option<String> {
+    let bytes = std::fs::read(path).ok()?;
+    Some(String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
 }
 
 #[cfg(test)]

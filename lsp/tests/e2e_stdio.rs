@@ -315,8 +315,54 @@ fn watched_files_are_reread() {
         json!({"changes": [{"uri": file_uri(&domain), "type": 3}]}),
     );
     assert_eq!(codes(&client.diagnostics(&problem_uri, Some(1))), ["E0114"]);
+    // The client watches: the server does not watch too.
+    assert!(!client.log.iter().any(|m| log_says(m, "for changes on disk")), "{:#?}", client.log);
     client.shutdown();
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn log_says(message: &Value, text: &str) -> bool {
+    message["method"] == "window/logMessage"
+        && message["params"]["message"].as_str().is_some_and(|m| m.contains(text))
+}
+
+/// A client that does not watch files for the server (Neovim's default,
+/// Helix), or that refuses to: the server watches the workspace itself. A
+/// domain changed, deleted, then created in a new folder, all on disk and
+/// unknown to the client, changes the diagnostics of its open problem.
+#[test]
+fn files_changed_on_disk_are_reread_without_a_client_watcher() {
+    let refusing = json!({"workspace": {"didChangeWatchedFiles": {"dynamicRegistration": true}}});
+    for (name, capabilities) in [("no-watcher", json!({})), ("refusing", refusing)] {
+        let dir = scratch_copy(name);
+        let mut client = Client::spawn();
+        client.refuse.push("client/registerCapability");
+        client.initialize(&dir, capabilities);
+        client.wait_for("the server's watch", |m| log_says(m, "watching 1 folders for changes on disk"));
+
+        let problem = dir.join("problem.pddl");
+        let problem_uri = file_uri(&problem);
+        client.open(&problem_uri, &std::fs::read_to_string(&problem).expect("problem"));
+        assert_eq!(client.diagnostics(&problem_uri, Some(1)), Vec::<Value>::new(), "{name}");
+
+        let domain = dir.join("domain.pddl");
+        let text = std::fs::read_to_string(&domain).expect("domain");
+        std::fs::write(&domain, text.replace("(held ?b - block)", "(grasped ?b - block)")).expect("writing");
+        assert_eq!(codes(&client.diagnostics(&problem_uri, Some(1))), ["E0102"], "{name}");
+
+        std::fs::remove_file(&domain).expect("deleting");
+        assert_eq!(codes(&client.diagnostics(&problem_uri, Some(1))), ["E0114"], "{name}");
+
+        // A folder that appears (a checkout) is loaded and watched.
+        std::fs::create_dir(dir.join("models")).expect("a new folder");
+        std::fs::write(dir.join("models/domain.pddl"), &text).expect("writing");
+        assert_eq!(client.diagnostics(&problem_uri, Some(1)), Vec::<Value>::new(), "{name}");
+        std::fs::write(dir.join("models/domain.pddl"), text.replace("(held ?b", "(grasped ?b"))
+            .expect("writing");
+        assert_eq!(codes(&client.diagnostics(&problem_uri, Some(1))), ["E0102"], "{name}");
+        client.shutdown();
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
 
 /// A workspace folder added later brings its domain; removed, takes it away.

@@ -70,6 +70,8 @@ pub struct Client {
     pub notifications: VecDeque<Value>,
     /// Every notification and server request received, in order.
     pub log: Vec<Value>,
+    /// The server's requests answered with an error instead of `null`.
+    pub refuse: Vec<&'static str>,
     next_id: i64,
 }
 
@@ -119,7 +121,15 @@ impl Client {
                 }
             }
         });
-        Client { child, stdin, incoming, notifications: VecDeque::new(), log: Vec::new(), next_id: 1 }
+        Client {
+            child,
+            stdin,
+            incoming,
+            notifications: VecDeque::new(),
+            log: Vec::new(),
+            refuse: Vec::new(),
+            next_id: 1,
+        }
     }
 
     fn send(&mut self, message: &Value) {
@@ -132,8 +142,9 @@ impl Client {
         self.send(&json!({"jsonrpc": "2.0", "method": method, "params": params}));
     }
 
-    /// The next message; the server's own requests are answered with `null`
-    /// (and returned too, for tests that check them).
+    /// The next message; the server's own requests are answered with `null`,
+    /// or an error for those in `refuse` (and returned too, for tests that
+    /// check them).
     fn next(&mut self, deadline: Instant) -> Value {
         let left = deadline.saturating_duration_since(Instant::now());
         let message = match self.incoming.recv_timeout(left) {
@@ -143,7 +154,12 @@ impl Client {
         };
         if message.get("method").is_some() && message.get("id").is_some() {
             let id = message["id"].clone();
-            self.send(&json!({"jsonrpc": "2.0", "id": id, "result": null}));
+            if message["method"].as_str().is_some_and(|m| self.refuse.contains(&m)) {
+                let error = json!({"code": -32601, "message": "not supported by this client"});
+                self.send(&json!({"jsonrpc": "2.0", "id": id, "error": error}));
+            } else {
+                self.send(&json!({"jsonrpc": "2.0", "id": id, "result": null}));
+            }
         }
         message
     }
