@@ -259,6 +259,11 @@ impl Analysis {
         self.with_db(|db| crate::ide::document_symbols(db, file))
     }
 
+    /// The declarations of the workspace matching `query` (`workspace/symbol`).
+    pub fn workspace_symbols(&self, query: &str) -> Cancellable<Vec<crate::ide::WorkspaceSymbol>> {
+        self.with_db(|db| crate::ide::workspace_symbols(db, query))
+    }
+
     pub fn hover(&self, file: SourceFile, offset: TextSize) -> Cancellable<Option<crate::ide::HoverResult>> {
         self.with_db(|db| crate::ide::hover(db, file, offset))
     }

@@ -78,3 +78,38 @@ fn document_symbols_select_a_section_by_its_keyword() {
         [":types", ":predicates", ":functions", ":objects", ":init", ":goal", ":objects", ":init", ":goal"]
     );
 }
+
+/// Workspace symbols: every declaration of every domain and problem, matched
+/// ignoring case by prefix, substring or characters in order, best first.
+#[test]
+fn workspace_symbols_match_by_prefix_substring_and_characters_in_order() {
+    let mut host = AnalysisHost::new();
+    let domain = "(define (domain Logistics) (:types truck)\n  (:predicates (at ?t - truck))\n  (:action pick-up :parameters (?t - truck) :effect (at ?t))\n  (:action drop :parameters (?t - truck) :effect (not (at ?t))))\n";
+    let problem = "(define (problem deliver-1) (:domain logistics) (:objects truck-a - truck) (:init) (:goal (at truck-a)))\n";
+    host.set_file_text("/w/domain.pddl", domain);
+    host.set_file_text("/w/p1.pddl", problem);
+    // A plan file has no declarations.
+    host.set_file_text("/w/p1.plan", "0: (pick-up truck-a) [1]\n");
+    let analysis = host.analysis();
+    let names = |query: &str| -> Vec<(String, Option<String>)> {
+        let symbols = analysis.workspace_symbols(query).unwrap();
+        symbols.into_iter().map(|s| (s.name, s.container)).collect()
+    };
+    let some = |s: &str| Some(s.to_string());
+    assert_eq!(
+        names("TRUCK"),
+        [("truck".into(), some("Logistics")), ("truck-a".into(), some("deliver-1")),],
+        "exact before prefix; case ignored"
+    );
+    assert_eq!(names("pkup"), [("pick-up".into(), some("Logistics"))], "characters in order");
+    assert_eq!(names("ver"), [("deliver-1".into(), None)], "a substring; a problem has no container");
+    assert!(names("zz").is_empty());
+    let everything = names("");
+    assert_eq!(everything.len(), 7, "{everything:?}");
+
+    let symbols = analysis.workspace_symbols("drop").unwrap();
+    let drop = &symbols[0];
+    assert_eq!(drop.kind, hipop_analyzer::ide::SymbolKind::Action);
+    assert_eq!(&domain[drop.range], "drop");
+    assert_eq!(analysis.file_path(drop.file).unwrap(), "/w/domain.pddl");
+}

@@ -245,6 +245,19 @@ pub(crate) fn document_symbol(s: &ide::DocumentSymbol, file: &FileInfo) -> lsp::
     }
 }
 
+/// A symbol of the workspace, located at its name.
+pub(crate) fn symbol_information(s: ide::WorkspaceSymbol, location: lsp::Location) -> lsp::SymbolInformation {
+    #[expect(deprecated, reason = "`deprecated` has no default and must be spelled out")]
+    lsp::SymbolInformation {
+        name: if s.name.is_empty() { "?".to_string() } else { s.name },
+        kind: symbol_kind(s.kind),
+        tags: None,
+        deprecated: None,
+        location,
+        container_name: s.container,
+    }
+}
+
 pub(crate) fn hover(h: ide::HoverResult, file: &FileInfo) -> lsp::Hover {
     lsp::Hover {
         contents: lsp::HoverContents::Markup(lsp::MarkupContent {

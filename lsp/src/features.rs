@@ -5,7 +5,7 @@ use hipop_analyzer::{Cancellable, TextRange};
 use tower_lsp_server::ls_types as lsp;
 
 use crate::convert;
-use crate::session::Snapshot;
+use crate::session::{Snapshot, WorkspaceSnapshot};
 
 pub(crate) fn document_symbols(snap: &Snapshot) -> Cancellable<Option<lsp::DocumentSymbolResponse>> {
     let file = snap.files().get(snap.file)?;
@@ -63,4 +63,19 @@ pub(crate) fn code_actions(
         }
     }
     Ok(Some(actions))
+}
+
+/// The declarations of the workspace whose names match `query`.
+pub(crate) fn workspace_symbols(
+    snap: &WorkspaceSnapshot,
+    query: &str,
+) -> Cancellable<Option<lsp::WorkspaceSymbolResponse>> {
+    let mut files = snap.files();
+    let mut symbols = Vec::new();
+    for s in snap.analysis.workspace_symbols(query)? {
+        if let Some(location) = files.location(s.file, s.range)? {
+            symbols.push(convert::symbol_information(s, location));
+        }
+    }
+    Ok(Some(lsp::WorkspaceSymbolResponse::Flat(symbols)))
 }

@@ -13,12 +13,12 @@ use std::any::Any;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
 
-use hipop_analyzer::{Cancellable, Cancelled};
+use hipop_analyzer::{Analysis, Cancellable, Cancelled};
 use tokio::sync::Mutex;
 use tower_lsp_server::jsonrpc::{Error, ErrorCode, Result};
 use tower_lsp_server::ls_types::Uri;
 
-use crate::session::{Session, Snapshot};
+use crate::session::{Session, Snapshot, WorkspaceSnapshot};
 
 /// How many snapshots a request tries before giving up on a busy editor.
 const ATTEMPTS: usize = 2;
@@ -76,10 +76,36 @@ where
     T: Default + Send + 'static,
     F: Fn(&Snapshot) -> Cancellable<T> + Send + Sync + 'static,
 {
+    run_on(session, method, |s| s.snapshot(uri), |s| &s.analysis, f).await
+}
+
+/// Answers a request about the whole workspace with `f` run on a snapshot.
+pub(crate) async fn run_workspace<T, F>(session: &Mutex<Session>, method: &'static str, f: F) -> Result<T>
+where
+    T: Default + Send + 'static,
+    F: Fn(&WorkspaceSnapshot) -> Cancellable<T> + Send + Sync + 'static,
+{
+    run_on(session, method, |s| Some(s.workspace_snapshot()), |s| &s.analysis, f).await
+}
+
+/// Answers with `f` run on the snapshot `take` takes under the lock; `None`
+/// gets the empty answer, `T::default()`.
+async fn run_on<S, T, F>(
+    session: &Mutex<Session>,
+    method: &'static str,
+    take: impl Fn(&Session) -> Option<S>,
+    analysis: fn(&S) -> &Analysis,
+    f: F,
+) -> Result<T>
+where
+    S: Send + 'static,
+    T: Default + Send + 'static,
+    F: Fn(&S) -> Cancellable<T> + Send + Sync + 'static,
+{
     let f = Arc::new(f);
     for _ in 0..ATTEMPTS {
-        let Some(snapshot) = session.lock().await.snapshot(uri) else { return Ok(T::default()) };
-        let token = snapshot.analysis.cancellation_token();
+        let Some(snapshot) = take(&*session.lock().await) else { return Ok(T::default()) };
+        let token = analysis(&snapshot).cancellation_token();
         let _cancel_if_abandoned = OnDrop(Some(Box::new(move || token.cancel())));
         let f = f.clone();
         let outcome = tokio::task::spawn_blocking(move || guarded(|| f(&snapshot))).await;

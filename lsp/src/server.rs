@@ -225,6 +225,14 @@ impl LanguageServer for Backend {
         requests::run(&self.session, &uri, "documentSymbol", features::document_symbols).await
     }
 
+    async fn symbol(&self, params: WorkspaceSymbolParams) -> Result<Option<WorkspaceSymbolResponse>> {
+        let query = params.query;
+        requests::run_workspace(&self.session, "workspace/symbol", move |s| {
+            features::workspace_symbols(s, &query)
+        })
+        .await
+    }
+
     async fn hover(&self, params: HoverParams) -> Result<Option<Hover>> {
         let at = params.text_document_position_params;
         let pos = at.position;

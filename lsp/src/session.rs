@@ -57,6 +57,20 @@ impl Snapshot {
     }
 }
 
+/// A snapshot for a request about the whole workspace.
+pub(crate) struct WorkspaceSnapshot {
+    pub analysis: Analysis,
+    pub encoding: Encoding,
+    pub open: Arc<HashMap<String, Uri>>,
+    pub indexes: HashMap<SourceFile, Arc<LineIndex>>,
+}
+
+impl WorkspaceSnapshot {
+    pub(crate) fn files(&self) -> Files<'_> {
+        Files::new(&self.analysis, &self.open, self.encoding, &self.indexes)
+    }
+}
+
 /// What the diagnostics of all open documents need, taken under the lock.
 pub(crate) struct DiagnosticsJob {
     pub analysis: Analysis,
@@ -311,6 +325,16 @@ impl Session {
             open: self.open.clone(),
             indexes: self.indexes(),
         })
+    }
+
+    /// A snapshot for a request about the whole workspace.
+    pub(crate) fn workspace_snapshot(&self) -> WorkspaceSnapshot {
+        WorkspaceSnapshot {
+            analysis: self.host.analysis(),
+            encoding: self.encoding,
+            open: self.open.clone(),
+            indexes: self.indexes(),
+        }
     }
 
     /// The line indexes of the open documents, by analyzer file.

@@ -450,3 +450,33 @@ fn a_plan_is_validated_against_its_problem() {
     assert_eq!(client.diagnostics(&uri, Some(2)), Vec::<Value>::new());
     client.shutdown();
 }
+
+/// `workspace/symbol` (Helix's Space S): the declarations of every file of the
+/// workspace, open or not, matched by the query.
+#[test]
+fn workspace_symbols_cover_files_not_open() {
+    let mut client = Client::spawn();
+    let init = client.initialize(&fixture("blocks"), json!({}));
+    assert_eq!(init["capabilities"]["workspaceSymbolProvider"], true);
+    let symbols = client.request("workspace/symbol", json!({"query": "pkup"}));
+    assert_eq!(
+        symbols,
+        json!([{
+            "name": "pick-up",
+            "kind": 12,
+            "location": {"uri": file_uri(&fixture("blocks/domain.pddl")), "range": range(9, 11, 9, 18)},
+            "containerName": "blocks",
+        }])
+    );
+    let names: Vec<String> = client
+        .request("workspace/symbol", json!({"query": ""}))
+        .as_array()
+        .expect("symbols")
+        .iter()
+        .filter_map(|s| s["name"].as_str().map(String::from))
+        .collect();
+    for name in ["blocks", "block", "on-table", "clear", "held", "pick-up", "a"] {
+        assert!(names.iter().any(|n| n == name), "{name} in {names:?}");
+    }
+    client.shutdown();
+}

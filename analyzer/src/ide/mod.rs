@@ -160,6 +160,88 @@ pub fn document_symbols(db: &dyn Db, file: SourceFile) -> Vec<DocumentSymbol> {
     out
 }
 
+/// A symbol of the workspace, for `workspace/symbol`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct WorkspaceSymbol {
+    pub name: String,
+    pub kind: SymbolKind,
+    pub file: SourceFile,
+    /// The name's range.
+    pub range: TextRange,
+    /// The domain or problem it is declared in.
+    pub container: Option<String>,
+}
+
+/// How many symbols [`workspace_symbols`] returns at most: the best matches.
+pub const WORKSPACE_SYMBOLS_LIMIT: usize = 1000;
+
+/// How well `name` matches `query` (lower-cased), best first: equal, prefix,
+/// substring, then the query's characters in order (`pkup` finds `pick-up`);
+/// `None` when it does not match. Case is ignored, as PDDL does.
+fn match_rank(name: &str, query: &str) -> Option<u8> {
+    if query.is_empty() {
+        return Some(0);
+    }
+    let name = name.to_lowercase();
+    if name == query {
+        Some(0)
+    } else if name.starts_with(query) {
+        Some(1)
+    } else if name.contains(query) {
+        Some(2)
+    } else {
+        let mut chars = name.chars();
+        query.chars().all(|q| chars.any(|c| c == q)).then_some(3)
+    }
+}
+
+/// The declarations of every domain and problem of the workspace whose name
+/// matches `query` ([`match_rank`]): domains, problems, types, constants,
+/// objects, predicates, functions, actions, tasks and methods, best matches
+/// first, at most [`WORKSPACE_SYMBOLS_LIMIT`].
+pub fn workspace_symbols(db: &dyn Db, query: &str) -> Vec<WorkspaceSymbol> {
+    let query = query.trim().to_lowercase();
+    let files = crate::db::Workspace::try_get(db).map(|ws| ws.files(db).clone()).unwrap_or_default();
+    let mut found: Vec<(u8, WorkspaceSymbol)> = Vec::new();
+    for file in files {
+        for unit in document_symbols(db, file) {
+            let container = Some(unit.name.clone());
+            let mut add = |s: &DocumentSymbol, container: Option<String>| {
+                if s.kind != SymbolKind::Section
+                    && let Some(rank) = match_rank(&s.name, &query)
+                {
+                    let symbol = WorkspaceSymbol {
+                        name: s.name.clone(),
+                        kind: s.kind,
+                        file,
+                        range: s.selection_range,
+                        container,
+                    };
+                    found.push((rank, symbol));
+                }
+            };
+            add(&unit, None);
+            for child in &unit.children {
+                add(child, container.clone());
+                for grandchild in &child.children {
+                    add(grandchild, container.clone());
+                }
+            }
+        }
+    }
+    found.sort_by(|(ra, a), (rb, b)| {
+        (ra, a.name.len(), &a.name, a.file.path(db), a.range.start()).cmp(&(
+            rb,
+            b.name.len(),
+            &b.name,
+            b.file.path(db),
+            b.range.start(),
+        ))
+    });
+    found.truncate(WORKSPACE_SYMBOLS_LIMIT);
+    found.into_iter().map(|(_, s)| s).collect()
+}
+
 /// The absolute range of the keyword that heads an item (`:predicates`, the
 /// `:init` of the first chunk of an `:init`): the first atom of its syntax,
 /// seeing through the groups of a long list, before any nested list.
