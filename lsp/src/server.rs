@@ -120,7 +120,13 @@ impl LanguageServer for Backend {
     async fn initialize(&self, params: InitializeParams) -> Result<InitializeResult> {
         let encoding = convert::negotiate_encoding(&params.capabilities);
         let watch = params.capabilities.workspace.as_ref().and_then(|w| w.did_change_watched_files.as_ref());
-        let watch_files = watch.and_then(|w| w.dynamic_registration).unwrap_or(false);
+        // Helix accepts the registration but reports only the writes it makes
+        // itself, never a change made outside it (helix-editor/helix#11882):
+        // the server watches for it.
+        let forwards_only_its_writes =
+            params.client_info.as_ref().is_some_and(|c| c.name.eq_ignore_ascii_case("helix"));
+        let watch_files =
+            watch.and_then(|w| w.dynamic_registration).unwrap_or(false) && !forwards_only_its_writes;
         self.session.lock().await.set_client(encoding, watch_files);
         self.load_folders(workspace::roots(&params)).await;
         Ok(InitializeResult {

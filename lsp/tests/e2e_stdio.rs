@@ -326,19 +326,27 @@ fn log_says(message: &Value, text: &str) -> bool {
         && message["params"]["message"].as_str().is_some_and(|m| m.contains(text))
 }
 
-/// A client that does not watch files for the server (Neovim's default,
-/// Helix), or that refuses to: the server watches the workspace itself. A
-/// domain changed, deleted, then created in a new folder, all on disk and
-/// unknown to the client, changes the diagnostics of its open problem.
+/// A client that does not watch files for the server (Neovim's default), that
+/// refuses to, or that reports only its own writes (Helix): the server
+/// watches the workspace itself. A domain changed, deleted, then created in
+/// a new folder, all on disk and unknown to the client, changes the
+/// diagnostics of its open problem.
 #[test]
 fn files_changed_on_disk_are_reread_without_a_client_watcher() {
-    let refusing = json!({"workspace": {"didChangeWatchedFiles": {"dynamicRegistration": true}}});
-    for (name, capabilities) in [("no-watcher", json!({})), ("refusing", refusing)] {
+    let watching = json!({"workspace": {"didChangeWatchedFiles": {"dynamicRegistration": true}}});
+    let helix = json!({"name": "helix", "version": "25.07.1"});
+    for (name, capabilities, client_info) in [
+        ("no-watcher", json!({}), Value::Null),
+        ("refusing", watching.clone(), Value::Null),
+        ("helix", watching, helix),
+    ] {
         let dir = scratch_copy(name);
         let mut client = Client::spawn();
         client.refuse.push("client/registerCapability");
-        client.initialize(&dir, capabilities);
+        client.initialize_as(&dir, capabilities, client_info);
         client.wait_for("the server's watch", |m| log_says(m, "watching 1 folders for changes on disk"));
+        let registered = client.log.iter().any(|m| m["method"] == "client/registerCapability");
+        assert_eq!(registered, name == "refusing", "{name}");
 
         let problem = dir.join("problem.pddl");
         let problem_uri = file_uri(&problem);

@@ -245,11 +245,17 @@ impl Client {
     }
 
     pub fn initialize(&mut self, root: &Path, capabilities: Value) -> Value {
+        self.initialize_as(root, capabilities, Value::Null)
+    }
+
+    /// `initialize` with a `clientInfo` (`null` for none).
+    pub fn initialize_as(&mut self, root: &Path, capabilities: Value, client_info: Value) -> Value {
         let uri = file_uri(root);
         let result = self.request(
             "initialize",
             json!({
                 "processId": null,
+                "clientInfo": client_info,
                 "rootUri": uri,
                 "capabilities": capabilities,
                 "workspaceFolders": [{"uri": uri, "name": "root"}],
