@@ -113,3 +113,138 @@ fn workspace_symbols_match_by_prefix_substring_and_characters_in_order() {
     assert_eq!(&domain[drop.range], "drop");
     assert_eq!(analysis.file_path(drop.file).unwrap(), "/w/domain.pddl");
 }
+
+/// A host with the files of fixture folders, each under `w/` with its name
+/// (so that a plan finds its problem beside it), and the text of each.
+fn workspace(files: &[&str]) -> (AnalysisHost, Vec<(hipop_analyzer::SourceFile, String)>) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut host = AnalysisHost::new();
+    let mut out = Vec::new();
+    for rel in files {
+        let text = std::fs::read_to_string(root.join(rel)).unwrap();
+        let name = Path::new(rel).file_name().unwrap().to_str().unwrap();
+        out.push((host.set_file_text(&format!("w/{name}"), text.as_str()), text));
+    }
+    (host, out)
+}
+
+/// The byte offset of the `nth` occurrence of `needle` in `text`, plus `skip`.
+fn at(text: &str, needle: &str, nth: usize, skip: usize) -> TextSize {
+    let i = text.match_indices(needle).nth(nth).unwrap_or_else(|| panic!("{needle} #{nth}")).0;
+    TextSize::from((i + skip) as u32)
+}
+
+const SHUTTLE: [&str; 4] = [
+    "tests/ide/shuttle/domain.pddl",
+    "tests/ide/shuttle/problem.pddl",
+    "tests/ide/shuttle/problem.plan",
+    "tests/ide/shuttle/problem.plan.json",
+];
+
+/// Hover on a step of a VAL plan: the action's signature and the bound
+/// arguments, the time window, and the validator's verdict on that step.
+#[test]
+fn hover_on_a_plan_step_shows_its_action_time_window_and_verdict() {
+    let (host, files) = workspace(&SHUTTLE);
+    let (plan, text) = &files[2];
+    let analysis = host.analysis();
+    let hover = |needle: &str, skip| analysis.hover(*plan, at(text, needle, 0, skip)).unwrap().unwrap();
+
+    let first = hover("(drive r home", 2);
+    assert_eq!(&text[first.range], "0.000: (drive r home dock) [5.000]");
+    insta::assert_snapshot!("plan_hover_valid_step", first.markdown);
+
+    let second = hover("yard", 0);
+    assert_eq!(&text[second.range], "5.010: (drive r yard depot) [5.000]");
+    insta::assert_snapshot!("plan_hover_invalid_step", second.markdown);
+
+    let honk = hover("honk", 0);
+    assert!(honk.markdown.starts_with("```pddl\naction (honk ?r - robot)\n```"), "{}", honk.markdown);
+    assert!(honk.markdown.contains("\n\nat 6.000\n\n"), "{}", honk.markdown);
+
+    // Nothing on the comment line.
+    assert_eq!(analysis.hover(*plan, at(text, "first drive", 0, 0)).unwrap(), None);
+}
+
+/// A JSON plan: the step's flexibility; a plan without a problem beside it is
+/// not validated, and says so.
+#[test]
+fn hover_on_a_json_step_and_on_a_plan_without_its_problem() {
+    let (host, files) = workspace(&SHUTTLE);
+    let (json, text) = &files[3];
+    let h = host.analysis().hover(*json, at(text, "\"drive\"", 0, 1)).unwrap().unwrap();
+    assert!(h.markdown.contains("durative action (drive ?r - robot ?from ?to - place)"), "{}", h.markdown);
+    assert!(
+        h.markdown.contains("from 0.000 to 5.000 (duration 5.000); may start from 0.000 to 2.500"),
+        "{}",
+        h.markdown
+    );
+    assert!(h.markdown.ends_with("**valid**"), "{}", h.markdown);
+
+    let (host, files) = workspace(&SHUTTLE[2..3]);
+    let (plan, text) = &files[0];
+    let h = host.analysis().hover(*plan, at(text, "(drive", 0, 1)).unwrap().unwrap();
+    assert!(h.markdown.starts_with("```pddl\n(drive r home dock)\n```"), "{}", h.markdown);
+    assert!(h.markdown.ends_with("**not validated**: no problem found for this plan"), "{}", h.markdown);
+}
+
+/// Go to definition from a plan: the action, a constant of the domain, an
+/// object of the problem.
+#[test]
+fn definition_from_a_plan_step_goes_to_the_domain_and_the_problem() {
+    let (host, files) = workspace(&SHUTTLE);
+    let (plan, text) = &files[2];
+    let analysis = host.analysis();
+    let goto = |needle: &str, nth| {
+        let target = analysis.goto_definition(*plan, at(text, needle, nth, 1)).unwrap().expect(needle);
+        let path = analysis.file_path(target.file).unwrap();
+        let file_text = &files.iter().find(|(f, _)| *f == target.file).unwrap().1;
+        (path, file_text[target.range].to_string(), target.range.start())
+    };
+    let (path, name, start) = goto("drive", 1);
+    assert_eq!((path.as_str(), name.as_str()), ("w/domain.pddl", "drive"));
+    assert_eq!(start, at(&files[0].1, "(:durative-action drive", 0, 18));
+    assert_eq!(goto("depot", 0).1, "depot", "a constant of the domain");
+    let (path, name, _) = goto(" yard", 0);
+    assert_eq!((path.as_str(), name.as_str()), ("w/problem.pddl", "yard"));
+    assert_eq!(goto("honk", 0).1, "honk");
+}
+
+/// An IPC 2020 hierarchical plan: hover on an abstract step shows its task
+/// and method; go to definition leads from the task to the task, from the
+/// method to the method, and from a listed subtask id to that step.
+#[test]
+fn hierarchical_plan_steps_lead_to_tasks_and_methods() {
+    let (host, files) = workspace(&[
+        "tests/validate-htn/models/transport.hddl",
+        "tests/validate-htn/models/transport-1.hddl",
+        "tests/validate-htn/valid-transport.plan",
+    ]);
+    // The plan is named after its problem so that it is found beside it.
+    let mut host = host;
+    let text = files[2].1.clone();
+    let plan = host.set_file_text("w/transport-1.plan", text.as_str());
+    let domain = &files[0].1;
+    let analysis = host.analysis();
+
+    let h = analysis.hover(plan, at(&text, "9 deliver p1 c", 0, 3)).unwrap().unwrap();
+    assert_eq!(&text[h.range], "9 deliver p1 c -> m-deliver 10 1 11 3");
+    insta::assert_snapshot!("plan_hover_abstract_step", h.markdown);
+    let h = analysis.hover(plan, at(&text, "0 drive truck depot b", 0, 3)).unwrap().unwrap();
+    assert!(h.markdown.contains("untimed (step 0)"), "{}", h.markdown);
+    assert!(h.markdown.ends_with("**valid**"), "{}", h.markdown);
+
+    let goto = |needle: &str, nth, skip| {
+        let target = analysis.goto_definition(plan, at(&text, needle, nth, skip)).unwrap().expect(needle);
+        (analysis.file_path(target.file).unwrap(), target.range)
+    };
+    let (path, range) = goto("deliver p1", 0, 0);
+    assert_eq!((path.as_str(), &domain[range]), ("w/transport.hddl", "deliver"));
+    assert!(domain[..usize::from(range.start())].ends_with("(:task "), "the task, not a method");
+    let (path, range) = goto("m-deliver", 0, 0);
+    assert_eq!((path.as_str(), &domain[range]), ("w/transport.hddl", "m-deliver"));
+    // `11` in `-> m-deliver 10 1 11 3`: the step with id 11.
+    let (path, range) = goto("m-deliver 10 1 11", 0, 15);
+    assert_eq!((path.as_str(), &text[range]), ("w/transport-1.plan", "11"));
+    assert!(text[usize::from(range.start())..].starts_with("11 get-to truck c"));
+}

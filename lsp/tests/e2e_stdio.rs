@@ -453,6 +453,19 @@ fn a_plan_is_validated_against_its_problem() {
     client.open(&uri, &text);
     let diags = client.diagnostics(&uri, Some(1));
     assert_eq!(codes(&diags), ["E0419"], "{diags:#?}");
+    // Hover on a step: its action, its time window, its verdict.
+    let hover = client.request("textDocument/hover", at(&uri, 1, 10));
+    let markdown = hover["contents"]["value"].as_str().expect("markdown hover");
+    assert!(markdown.contains("durative action (drive ?r - robot ?from ?to - place)"), "{markdown}");
+    assert!(markdown.contains("from 0.000 to 5.000 (duration 5.000)"), "{markdown}");
+    assert!(markdown.ends_with("**valid**"), "{markdown}");
+    assert_eq!(hover["range"], range(1, 0, 1, 34));
+    // Go to definition: from the step's action to the domain.
+    let definition = client.request("textDocument/definition", at(&uri, 1, 10));
+    assert_eq!(
+        definition,
+        json!({"uri": file_uri(&fixture("plan/domain.pddl")), "range": range(5, 20, 5, 25)})
+    );
     // Delete the drive back home (line 2).
     client.change(&uri, 2, range(2, 0, 3, 0), "");
     assert_eq!(client.diagnostics(&uri, Some(2)), Vec::<Value>::new());

@@ -3,6 +3,7 @@
 //! server converts to LSP.
 
 pub mod diagnostics;
+mod plan;
 mod refs;
 
 use crate::model::Str;
@@ -361,8 +362,12 @@ fn declaration<'db>(
     }
 }
 
-/// Go to definition.
+/// Go to definition; in a plan file, from a step to its action, task, method
+/// or objects in the domain and problem.
 pub fn goto_definition(db: &dyn Db, file: SourceFile, offset: TextSize) -> Option<NavTarget> {
+    if crate::db::is_plan_path(file.path(db)) {
+        return plan::definition(db, file, offset);
+    }
     let (unit, item, kind, key, _) = occurrence_at(db, file, offset)?;
     declaration(db, unit, item, kind, &key)
 }
@@ -492,8 +497,12 @@ pub fn doc_comment(text: &str, at: TextSize) -> Option<String> {
     (!doc.is_empty()).then_some(doc)
 }
 
-/// Hover: the declaration's signature and its comment.
+/// Hover: the declaration's signature and its comment; in a plan file, a
+/// step's signature, time window and validity.
 pub fn hover(db: &dyn Db, file: SourceFile, offset: TextSize) -> Option<HoverResult> {
+    if crate::db::is_plan_path(file.path(db)) {
+        return plan::hover(db, file, offset);
+    }
     let (unit, item, kind, key, range) = occurrence_at(db, file, offset)?;
     let domain = domain_for(db, unit);
     let dom = domain.map(|d| domain_symbols(db, d));

@@ -1,0 +1,5 @@
+(define (problem to-the-dock)
+  (:domain shuttle)
+  (:objects r - robot home dock yard - place)
+  (:init (at r home))
+  (:goal (at r dock)))
