@@ -737,3 +737,40 @@ fn lsp_refuses_other_transports() {
         );
     }
 }
+
+/// docs/cli.md documents every subcommand and every flag the binary has (as
+/// its `--help` lists them), so that `--help`'s pointers to it lead somewhere.
+#[test]
+fn docs_cli_md_documents_every_command_and_flag() {
+    let doc = std::fs::read_to_string(workspace_root().join("docs/cli.md")).expect("docs/cli.md");
+    let help = stdout(&hipop(&["--help"]));
+    let commands: Vec<&str> = help
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| !l.trim().is_empty())
+        .filter(|l| l.starts_with("  ") && !l.starts_with("   "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .collect();
+    assert_eq!(commands, ["check", "diff", "validate", "plan", "lsp"]);
+    for command in commands {
+        assert!(doc.contains(&format!("## `hipop {command}`")), "no section for `hipop {command}`");
+        let help = stdout(&hipop(&[command, "--help"]));
+        let flags: Vec<&str> = help
+            .lines()
+            .filter_map(|l| {
+                l.trim_start().split_once("--").filter(|(short, _)| short.is_empty() || short.ends_with(", "))
+            })
+            .filter_map(|(_, rest)| rest.split(|c: char| !(c.is_ascii_alphanumeric() || c == '-')).next())
+            .filter(|f| *f != "help")
+            .collect();
+        assert!(!flags.is_empty() || command == "lsp", "no flags read from `hipop {command} --help`");
+        for flag in flags {
+            assert!(
+                doc.contains(&format!("--{flag}")),
+                "docs/cli.md does not mention `hipop {command} --{flag}`"
+            );
+        }
+    }
+}
