@@ -1,6 +1,7 @@
-//! A real editor as the client: Neovim (0.7 or later) headless opens a file,
-//! attaches `hipop lsp`, and reports the diagnostics and a hover it received.
-//! Skipped, with a message, when `nvim` is not installed.
+//! A real editor as the client: Neovim (0.7 or later) headless, with the
+//! configuration users load (`editors/neovim/hipop.lua`), opens files and
+//! reports what it received from `hipop lsp`. Skipped, with a message, when
+//! `nvim` is not installed.
 
 mod common;
 
@@ -16,55 +17,85 @@ fn nvim_version() -> Option<String> {
     output.status.success().then(|| version.lines().next().unwrap_or("").to_string())
 }
 
+/// Neovim with the config users load (`editors/neovim/hipop.lua`, as is):
+/// file types, one server per workspace, diagnostics in a domain and a plan,
+/// a hover, and a domain changed on disk behind Neovim (which does not watch
+/// files for servers) re-checking its open problem.
 #[test]
-fn neovim_shows_the_diagnostics() {
+fn neovim_with_the_shipped_config() {
     let Some(version) = nvim_version() else {
         eprintln!("SKIP: neovim (nvim) not installed; .ci/run installs it");
         return;
     };
     eprintln!("running {version}");
+    let root = common::workspace_root();
     let out = std::env::temp_dir().join(format!("hipop-nvim-{}.txt", std::process::id()));
     let _ = std::fs::remove_file(&out);
+    // A problem and its domain in a folder of their own, to change on disk.
+    let scratch = std::env::temp_dir().join(format!("hipop-nvim-blocks-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&scratch);
+    std::fs::create_dir_all(&scratch).expect("scratch folder");
+    for file in ["domain.pddl", "problem.pddl"] {
+        std::fs::copy(fixture("blocks").join(file), scratch.join(file)).expect("copying a fixture");
+    }
+    let bin = hipop_bin().to_str().expect("UTF-8 path").replace('\'', "''");
     let mut nvim = Command::new("nvim")
-        .args(["--headless", "-u", "NONE", "-i", "NONE", "-n", "-c"])
+        .args(["--headless", "-u", "NONE", "-i", "NONE", "-n"])
+        // The settings a user would put in init.lua: the binary, and no
+        // workspace markers, so that each fixture folder is its own workspace.
+        .args(["--cmd", &format!("let g:hipop_cmd = ['{bin}', 'lsp']")])
+        .args(["--cmd", "let g:hipop_root_markers = ['hipop-no-such-marker']"])
+        .arg("-c")
+        .arg(format!("luafile {}", root.join("editors/neovim/hipop.lua").display()))
+        .arg("-c")
         .arg(format!(
             "luafile {}",
             Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/neovim/diagnostics.lua").display()
         ))
-        .env("HIPOP_BIN", hipop_bin())
         .env("HIPOP_FILE", fixture("unicode/domain.pddl"))
-        .env("HIPOP_OUT", &out)
         // On `été` in `:precondition (été ?x)`.
         .env("HIPOP_HOVER_LINE", "6")
         .env("HIPOP_HOVER_CHAR", "20")
+        .env("HIPOP_PLAN", fixture("plan/problem.plan"))
+        .env("HIPOP_PROBLEM", scratch.join("problem.pddl"))
+        .env("HIPOP_DOMAIN", scratch.join("domain.pddl"))
+        .env("HIPOP_OUT", &out)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .spawn()
         .expect("spawning nvim");
-    let deadline = Instant::now() + Duration::from_secs(60);
+    let deadline = Instant::now() + Duration::from_secs(120);
     let status = loop {
         if let Some(status) = nvim.try_wait().expect("waiting for nvim") {
             break status;
         }
         if Instant::now() > deadline {
             let _ = nvim.kill();
-            panic!("nvim did not finish in 60 s");
+            panic!("nvim did not finish in 120 s");
         }
         std::thread::sleep(Duration::from_millis(50));
     };
     let report =
         std::fs::read_to_string(&out).unwrap_or_else(|e| panic!("no report from nvim ({status}): {e}"));
     let _ = std::fs::remove_file(&out);
-    let lines: Vec<&str> = report.lines().collect();
-    // Byte columns, converted by Neovim from UTF-16: `été` is 3 units but 5 bytes.
+    let _ = std::fs::remove_dir_all(&scratch);
+    let lines: Vec<&str> = report.lines().filter(|l| !l.starts_with("hover")).collect();
+    let scratch_name = scratch.file_name().and_then(|n| n.to_str()).expect("a folder name");
     assert_eq!(
-        lines[..2],
+        lines,
         [
+            "open domain.pddl: filetype pddl, clients hipop at unicode",
+            // Byte columns, converted by Neovim from UTF-16: `été` is 3 units but 5 bytes.
             "diagnostic 3:27-3:32 W0201 predicate `prêt` is never used",
             "diagnostic 7:29-7:33 E0102 undefined predicate `😀`",
+            "open problem.plan: filetype hipop-plan, clients hipop at plan",
+            "plan 2:0-2:34 E0419 the goal is not reached at the end of the plan (10.01): `(at r dock)` is false: deleted at 5.01 by the start of step 2 `(drive r dock home)`",
+            &format!("open problem.pddl: filetype pddl, clients hipop at {scratch_name}"),
+            "problem before: 0 diagnostics",
+            "problem after 4:10-4:14 E0102 undefined predicate `held`",
         ],
         "{report}"
     );
-    assert!(lines.contains(&"hover predicate (été ?x)"), "{report}");
+    assert!(report.lines().any(|l| l == "hover predicate (été ?x)"), "{report}");
     assert!(status.success(), "nvim exited with {status}");
 }
