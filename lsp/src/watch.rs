@@ -149,14 +149,20 @@ fn is_new_folder(dir: &Path, known: &Known) -> bool {
 }
 
 /// Looks at the disk for each changed path. Blocking: file reads and scans.
+/// Only the scans of new folders spend the budget here; the session charges
+/// new files to it when it applies the changes.
 pub(crate) fn read_changes(changes: BTreeSet<Change>, known: &Known) -> DiskChanges {
     let mut paths: BTreeSet<PathBuf> = BTreeSet::new();
     for change in changes {
         match change {
             Change::Path(p) => drop(paths.insert(p)),
             Change::Rescan => {
+                // Every file known, and every entry of every folder known (new files).
                 paths.extend(known.files.iter().cloned());
-                paths.extend(known.scanned.iter().cloned());
+                for dir in &known.scanned {
+                    let Ok(entries) = std::fs::read_dir(dir) else { continue };
+                    paths.extend(entries.flatten().map(|e| e.path()));
+                }
             }
         }
     }
@@ -167,13 +173,8 @@ pub(crate) fn read_changes(changes: BTreeSet<Change>, known: &Known) -> DiskChan
                 Some(text) => out.files.push((path.to_string_lossy().into_owned(), text)),
                 None => out.gone.push(path),
             },
-            Ok(m) if m.is_dir() => {
-                if is_new_folder(&path, known) {
-                    workspace::scan(&path, true, &mut out.budget, &mut out.scan);
-                } else if known.scanned.contains(&path) {
-                    // Looked at again (a rescan): its new files.
-                    workspace::scan(&path, false, &mut out.budget, &mut out.scan);
-                }
+            Ok(m) if m.is_dir() && is_new_folder(&path, known) => {
+                workspace::scan(&path, true, &mut out.budget, &mut out.scan);
             }
             Ok(_) => {}
             Err(_) => out.gone.push(path),
@@ -282,6 +283,15 @@ mod tests {
         std::fs::remove_dir_all(dir.join("sub")).unwrap();
         let gone = read_changes(BTreeSet::from([Change::Path(dir.join("sub"))]), &known);
         assert_eq!(gone.gone, [dir.join("sub")]);
+
+        // Events lost: every known file and every entry of the known folders are looked at.
+        std::fs::write(dir.join("new.pddl"), "(define (domain n))").unwrap();
+        known.files = vec![dir.join("d.pddl"), dir.join("old.pddl")];
+        let rescan = read_changes(BTreeSet::from([Change::Rescan]), &known);
+        let files: Vec<&str> = rescan.files.iter().map(|(k, _)| k.as_str()).collect();
+        assert_eq!(files, [key("d.pddl"), key("new.pddl")]);
+        assert_eq!(rescan.gone, [dir.join("old.pddl")]);
+        assert_eq!(rescan.budget.files, known.budget.files, "known folders are not scanned again");
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
