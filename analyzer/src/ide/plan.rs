@@ -93,7 +93,8 @@ fn touches(a: TextRange, b: TextRange) -> bool {
 /// The validator's verdict on a step: the diagnostics at it, or why the plan
 /// was not validated, or "valid".
 fn verdict(db: &dyn Db, file: SourceFile, plan: &Plan, model: Option<&Model<'_>>, step: &Step) -> String {
-    let diagnostics: &[Diagnostic] = crate::validate::plan_file_diagnostics(db, file);
+    // What the editor shows for the plan file (suppressions applied).
+    let diagnostics: &[Diagnostic] = super::diagnostics::file_check_diagnostics(db, file);
     let here: Vec<&Diagnostic> =
         diagnostics.iter().filter(|d| d.file == file && touches(d.range, step.range)).collect();
     if !here.is_empty() {
