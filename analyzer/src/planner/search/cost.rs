@@ -1,0 +1,168 @@
+//! What a partial plan costs: `g` beyond the makespan (the delay its open
+//! threats must cause, the busiest agent's work) and `h`, the estimates of
+//! its open links (h_add and its `reuse`, `advance-reuse`, `motion` and
+//! `ncm` variants, Equations 1–3 of the HiPOP paper) and of its abstract
+//! flaws.
+
+use super::super::plan::{INIT, Kind, Open, Plan};
+use super::super::stn::{EPS, ORIGIN, Tp};
+use super::super::task::{Lit, Task};
+use super::super::{Motion, PlanHeuristic};
+use super::Search;
+
+impl Search<'_, '_> {
+    /// h of a plan, and the effort.
+    pub(super) fn estimate(&self, p: &Plan) -> (f64, f64) {
+        let (mut h, mut effort) = (0.0, 0.0);
+        let index = EffectIndex::new(self.task, p);
+        for o in p.open.iter() {
+            if self.is_visit(o) {
+                effort += 1.0;
+                continue;
+            }
+            let (c, e) = self.open_cost(p, o, &index);
+            h += c;
+            effort += e;
+        }
+        if let Some(geo) = &self.geo
+            && self.config.motion == Motion::Motion
+        {
+            // Equation 2: each visit costs the travel from its possible
+            // last known positions (Equation 3, `ncm`: nothing).
+            h += geo.travel(self.task, p, &geo.pending(self.task, p)).min(1e9);
+        }
+        for &a in p.abstracts.iter() {
+            if let Kind::Op(op) = p.steps[a as usize].kind {
+                // An abstract action with its own duration already counts in
+                // the makespan: its subtasks fit in it.
+                if self.task.ops[op as usize].duration.is_none() {
+                    h += self.h.refine_cost[op as usize].min(1e6);
+                }
+                effort += self.h.refine_effort[op as usize].min(1e6);
+            }
+        }
+        effort += p.threats.len() as f64;
+        (h, effort)
+    }
+
+    pub(super) fn open_cost(&self, p: &Plan, o: &Open, index: &EffectIndex) -> (f64, f64) {
+        let base = (self.h.lit_cost(o.lit).min(1e6), self.h.lit_effort(o.lit).min(1e6));
+        match self.config.plan_h {
+            PlanHeuristic::Add => base,
+            PlanHeuristic::Reuse => {
+                if self.task.holds_initially(o.lit)
+                    || index.of(o.lit).iter().any(|&tp| tp != o.need && !p.stn.before(o.need, tp))
+                {
+                    (0.0, 0.0)
+                } else {
+                    base
+                }
+            }
+            PlanHeuristic::AdvanceReuse => {
+                // Equation 1: a producer that can be before, and every step
+                // deleting the literal ordered with it.
+                // (A deletion at or after the need, the consumer's own
+                // included, cannot come between the producer and the need.)
+                let deleters = index.of(o.lit ^ 1);
+                let ordered = |e: Tp| {
+                    e == ORIGIN
+                        || deleters.iter().all(|&d| {
+                            d == o.need || p.stn.before(o.need, d) || p.stn.before(d, e) || p.stn.before(e, d)
+                        })
+                };
+                if self.task.holds_initially(o.lit) && o.step != INIT && ordered(ORIGIN) {
+                    return (0.0, 0.0);
+                }
+                for &e in index.of(o.lit) {
+                    if e != o.need && !p.stn.before(o.need, e) && ordered(e) {
+                        return (0.0, 0.0);
+                    }
+                }
+                base
+            }
+        }
+    }
+
+    /// Solves in place the threats left with one consistent resolver, and
+    /// looks ahead at the others: `None` when a threat has no resolver left
+    /// (the plan is dead), else the least increase of the makespan that the
+    /// worst of the remaining threats forces (both of its orderings are
+    /// probed on the network).
+    pub(super) fn settle(&self, p: &mut Plan) -> Option<f64> {
+        if !self.force_threats(p, false) {
+            return None;
+        }
+        if p.threats.is_empty() {
+            return Some(0.0);
+        }
+        let lst = p.stn.latest_for(p.goal_tp);
+        let mut penalty: f64 = 0.0;
+        for t in p.threats.iter() {
+            let [(a1, b1), (a2, b2)] = self.threat_orders(p, t);
+            let d1 = p.stn.est(a1) + EPS - lst[b1 as usize];
+            let d2 = p.stn.est(a2) + EPS - lst[b2 as usize];
+            penalty = penalty.max(d1.min(d2));
+        }
+        Some(penalty.max(0.0))
+    }
+
+    /// The busiest agent's work, and the whole plan's. An agent's work is
+    /// the sum of the durations of the steps it takes part in (`:agent`), an
+    /// abstract step with a duration counting for the subtasks it holds. A
+    /// robot of a mission does one thing at a time, so the plan cannot be
+    /// shorter; it is what makes the search share the work among the robots
+    /// instead of piling it on one while the makespan of the partial plan
+    /// does not show it yet. The whole plan's work is the same sum over
+    /// every primitive step (or abstract step with a duration), agents or
+    /// not, each step counting ε more.
+    pub(super) fn work(&self, p: &Plan) -> (f64, f64) {
+        let mut load: rustc_hash::FxHashMap<u32, f64> = rustc_hash::FxHashMap::default();
+        let mut total = 0.0;
+        for s in p.steps.iter() {
+            let Kind::Op(o) = s.kind else { continue };
+            let op = &self.task.ops[o as usize];
+            if op.is_abstract && op.duration.is_none() {
+                continue;
+            }
+            let mut up = s.parent;
+            let mut held = false;
+            while let Some(a) = up {
+                if p.op_of(a).is_some_and(|ao| self.task.ops[ao as usize].duration.is_some()) {
+                    held = true;
+                    break;
+                }
+                up = p.steps[a as usize].parent;
+            }
+            if held {
+                continue;
+            }
+            let d = op.duration.unwrap_or(0.0) + EPS;
+            total += d;
+            for &a in &op.agents {
+                *load.entry(a).or_insert(0.0) += d;
+            }
+        }
+        (load.values().copied().fold(0.0, f64::max), total)
+    }
+}
+
+/// The effects of a plan's steps, by literal: built once per plan for its estimate.
+pub(super) struct EffectIndex {
+    by_lit: rustc_hash::FxHashMap<Lit, Vec<Tp>>,
+}
+
+impl EffectIndex {
+    pub(super) fn new(task: &Task<'_>, p: &Plan) -> EffectIndex {
+        let mut by_lit: rustc_hash::FxHashMap<Lit, Vec<Tp>> = rustc_hash::FxHashMap::default();
+        for s in 0..p.steps.len() as u32 {
+            for (l, tp) in p.effects(task, s) {
+                by_lit.entry(l).or_default().push(tp);
+            }
+        }
+        EffectIndex { by_lit }
+    }
+
+    pub(super) fn of(&self, l: Lit) -> &[Tp] {
+        self.by_lit.get(&l).map_or(&[], |v| v.as_slice())
+    }
+}

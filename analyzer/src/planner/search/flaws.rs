@@ -1,0 +1,232 @@
+//! Flaw selection (section 4.2.3 of the HiPOP paper): which flaw of a
+//! partial plan the search solves next. Threats that one ordering alone
+//! still solves are ordered in place; then open links (positions last:
+//! the itineraries), the abstract flaws that open links wait for, the
+//! delayed threats, the other abstract flaws in chronological order, and,
+//! in a plan without any of those, timed literals after the plan's end and
+//! interfering happenings too close together (VAL's mutex).
+
+use super::super::FlawOrder;
+use super::super::plan::{Kind, Open, Plan, Threat};
+use super::super::stn::{EPS, Tp};
+use super::super::task::atom_of;
+use super::{Flaw, Search};
+
+impl Search<'_, '_> {
+    /// Picks the flaw to solve (section 4.2.3): threats that have one
+    /// ordering left are solved in place (and one with none ends the plan);
+    /// then open links (positions last: the itineraries), then the threats
+    /// that both orderings still solve (delayed: later choices often order
+    /// them, or leave one way only), then abstract flaws in chronological
+    /// order, then interfering happenings.
+    pub(super) fn select(&self, p: &mut Plan) -> Option<Flaw> {
+        let task = self.task;
+        if p.threats.iter().any(|t| !p.still_threat(task, t)) {
+            let keep: Vec<Threat> = p.threats.iter().copied().filter(|t| p.still_threat(task, t)).collect();
+            p.threats = std::rc::Rc::new(keep);
+        }
+        if self.config.eager && !p.threats.is_empty() {
+            return self.threat_flaw(p);
+        }
+        let pending = match &self.geo {
+            Some(geo) => {
+                let pending = geo.pending(task, p);
+                if !geo.unblock(task, p, &pending) {
+                    return Some(Flaw::Dead);
+                }
+                pending
+            }
+            None => Vec::new(),
+        };
+        // Open links that are not visits and that no unrefined abstract
+        // step may still support.
+        let ready: Vec<usize> = (0..p.open.len())
+            .filter(|&i| !self.is_visit(&p.open[i]) && !self.deferred(p, &p.open[i]))
+            .collect();
+        if !ready.is_empty() {
+            let pick = match self.config.flaws {
+                FlawOrder::ThreatFirst => *ready.last().expect("non-empty"),
+                FlawOrder::Sorted => self.costliest(p, ready.iter().copied()),
+                FlawOrder::Local => {
+                    let newest = ready
+                        .iter()
+                        .map(|&i| p.steps[p.open[i].step as usize].born)
+                        .max()
+                        .expect("non-empty");
+                    self.costliest(
+                        p,
+                        ready.iter().copied().filter(|&i| p.steps[p.open[i].step as usize].born == newest),
+                    )
+                }
+            };
+            return Some(Flaw::Open(pick));
+        }
+        // Positions: the next visit of an itinerary.
+        if let Some(geo) = &self.geo
+            && let Some(k) = geo.choose(p, &pending)
+        {
+            let mut pending = pending;
+            return Some(Flaw::Visit(pending.swap_remove(k)));
+        }
+        // Open links left wait for abstract steps.
+        if !p.open.is_empty() && !p.abstracts.is_empty() {
+            return Some(self.abstract_flaw(p));
+        }
+        if !p.threats.is_empty() {
+            return self.threat_flaw(p);
+        }
+        if !p.abstracts.is_empty() {
+            return Some(self.abstract_flaw(p));
+        }
+        if !p.open.is_empty() {
+            // Nothing left can support them: their resolvers say so.
+            return Some(Flaw::Open(0));
+        }
+        self.late_til(p).or_else(|| self.mutex(p))
+    }
+
+    /// Whether a step is of an elementary action.
+    pub(super) fn elementary(&self, k: Kind) -> bool {
+        matches!(k, Kind::Op(o) if !self.task.ops[o as usize].is_abstract)
+    }
+
+    /// A goal supported by a timed initial literal later than every event
+    /// of the plan: VAL applies no timed literal after the plan's last
+    /// event, so some step must end after it.
+    pub(super) fn late_til(&self, p: &Plan) -> Option<Flaw> {
+        let last =
+            p.steps.iter().filter(|s| self.elementary(s.kind)).map(|s| p.stn.est(s.end)).fold(0.0, f64::max);
+        p.links
+            .iter()
+            .filter(|l| {
+                matches!(p.steps[l.from as usize].kind, Kind::Til(_))
+                    && p.steps[l.to as usize].kind == Kind::Goal
+                    && p.stn.est(l.from_tp) > last + 1e-9
+            })
+            .map(|l| Flaw::Late(l.from_tp))
+            .next()
+    }
+
+    /// The earliest unrefined abstract step (chronological order, 4.2.3).
+    pub(super) fn abstract_flaw(&self, p: &Plan) -> Flaw {
+        let (i, _) = p
+            .abstracts
+            .iter()
+            .enumerate()
+            .map(|(i, &s)| (i, p.stn.est(p.steps[s as usize].start)))
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+            .expect("non-empty");
+        Flaw::Abstract(i)
+    }
+
+    /// A threat to solve: those the network allows one way only are ordered
+    /// in place, one it allows neither way ends the plan; else the last found.
+    pub(super) fn threat_flaw(&self, p: &mut Plan) -> Option<Flaw> {
+        if !self.force_threats(p, true) {
+            return Some(Flaw::Dead);
+        }
+        if p.threats.is_empty() {
+            return self.select(p);
+        }
+        Some(Flaw::Threat(p.threats.len() - 1))
+    }
+
+    /// Whether an open link must wait: an unrefined abstract step that can
+    /// come before it may make its literal true once refined (its subtasks
+    /// are not in the plan yet, and linking to another producer now could
+    /// lose the plan). Section 4.2.3: abstract steps hide the literals their
+    /// methods create, hence abstract flaws in chronological order first.
+    pub(super) fn deferred(&self, p: &Plan, o: &Open) -> bool {
+        if p.abstracts.is_empty() {
+            return false;
+        }
+        let pred = self.task.g.atoms.pred(atom_of(o.lit));
+        p.abstracts.iter().any(|&a| {
+            let st = p.steps[a as usize];
+            let Kind::Op(op) = st.kind else { return false };
+            // A HiPOP abstract action is used through what it declares, like
+            // an elementary action (section 4.1): a predicate its effects
+            // name is not waited for. What it does not declare (everything
+            // for an HDDL task) only its methods tell.
+            if self.task.ops[op as usize].effs.iter().any(|e| self.task.g.atoms.pred(atom_of(e.lit)) == pred)
+            {
+                return false;
+            }
+            a != o.step
+                && !p.descends(o.step, a)
+                && !p.stn.before(o.need, st.start)
+                && self.h.may_add(op, o.lit)
+        })
+    }
+
+    pub(super) fn costliest(&self, p: &Plan, it: impl Iterator<Item = usize>) -> usize {
+        let mut best: Option<(usize, f64)> = None;
+        for i in it {
+            let c = self.h.lit_cost(p.open[i].lit);
+            if best.is_none_or(|(_, b)| c > b) {
+                best = Some((i, c));
+            }
+        }
+        best.map_or(0, |(i, _)| i)
+    }
+
+    /// Two interfering happenings at the same time in the earliest
+    /// schedule: VAL groups them into one happening and rejects the plan.
+    pub(super) fn mutex(&self, p: &Plan) -> Option<Flaw> {
+        // (time, time point, step) of every happening of a primitive step or timed literal.
+        let mut events: Vec<(f64, Tp, u32)> = Vec::new();
+        for (s, step) in p.steps.iter().enumerate() {
+            let prim = match step.kind {
+                Kind::Til(_) => true,
+                k => self.elementary(k),
+            };
+            if !prim {
+                continue;
+            }
+            events.push((p.stn.est(step.start), step.start, s as u32));
+            if step.end != step.start {
+                events.push((p.stn.est(step.end), step.end, s as u32));
+            }
+        }
+        events.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (i, a) in events.iter().enumerate() {
+            for b in &events[i + 1..] {
+                if b.0 - a.0 > EPS * 0.5 {
+                    break;
+                }
+                if a.2 == b.2 || p.stn.before(a.1, b.1) && b.0 - a.0 >= EPS - 1e-9 {
+                    continue;
+                }
+                if self.interfere(p, a.1, a.2, b.1, b.2) {
+                    return Some(Flaw::Mutex(a.1, b.1));
+                }
+            }
+        }
+        None
+    }
+
+    /// What a happening reads and writes, by atom.
+    pub(super) fn touched(&self, p: &Plan, tp: Tp, s: u32) -> (Vec<u32>, Vec<u32>) {
+        let (mut reads, mut writes) = (Vec::new(), Vec::new());
+        let step = p.steps[s as usize];
+        for (l, t) in p.effects(self.task, s) {
+            if t == tp {
+                writes.push(atom_of(l));
+            }
+        }
+        if let Kind::Op(o) = step.kind {
+            for c in &self.task.ops[o as usize].conds {
+                if step.tp(c.at) == tp || step.tp(c.until) == tp {
+                    reads.push(atom_of(c.lit));
+                }
+            }
+        }
+        (reads, writes)
+    }
+
+    pub(super) fn interfere(&self, p: &Plan, a: Tp, sa: u32, b: Tp, sb: u32) -> bool {
+        let (ra, wa) = self.touched(p, a, sa);
+        let (rb, wb) = self.touched(p, b, sb);
+        wa.iter().any(|x| rb.contains(x) || wb.contains(x)) || wb.iter().any(|x| ra.contains(x))
+    }
+}

@@ -1,0 +1,408 @@
+//! The resolvers of each flaw: the child plans that solve it (section
+//! 4.2.2 of the HiPOP paper), and the plans the search starts from. Threats
+//! are ordered one way or the other (in place when only one way is left);
+//! open links get a causal link from a step that can come before or a new
+//! step of 𝒜; abstract flaws get each method instance that does not only go
+//! round a loop; visits extend an itinerary; interfering happenings and late
+//! timed literals are ordered.
+
+use super::super::itinerary::Geo;
+use super::super::plan::{GOAL, INIT, Kind, Open, OpenOrigin, Plan, Threat, ThreatKind};
+use super::super::stn::{EPS, ORIGIN, Tp};
+use super::super::task::{atom_of, is_neg};
+use super::{Flaw, Search};
+
+impl Search<'_, '_> {
+    /// Adds a step (its open links bounded by their itineraries).
+    pub(super) fn add_step(&self, p: &mut Plan, op: u32, parent: Option<u32>) -> Option<u32> {
+        let before = p.open.len();
+        let s = p.add_step(self.task, self.h, op, parent)?;
+        if let Some(geo) = &self.geo {
+            for k in before..p.open.len() {
+                let o = p.open[k];
+                if !geo.bound(self.task, p, &o) {
+                    return None;
+                }
+            }
+        }
+        Some(s)
+    }
+
+    /// Adds an open link of another origin (bounded by its itinerary).
+    pub(super) fn add_open(&self, p: &mut Plan, o: Open) -> bool {
+        if let Some(geo) = &self.geo
+            && !geo.bound(self.task, p, &o)
+        {
+            return false;
+        }
+        p.add_open(o);
+        true
+    }
+
+    /// Whether an open link is a visit of an itinerary.
+    pub(super) fn is_visit(&self, o: &Open) -> bool {
+        self.geo.is_some() && Geo::position(self.task, o.lit).is_some()
+    }
+
+    /// The initial plans: init, goal, timed literals, the goal's open links,
+    /// and the `:htn` tasks with their orderings, one plan per ground
+    /// initial task network (the bindings of the `:htn` parameters).
+    pub fn initial(&self) -> Vec<Plan> {
+        let Some(mut p) = Plan::initial(self.task) else { return Vec::new() };
+        if let Some(geo) = &self.geo {
+            p.tails = std::rc::Rc::new(geo.initial_tails(self.task));
+        }
+        for (i, &(l, _)) in self.task.goals.iter().enumerate() {
+            let o = Open {
+                step: GOAL,
+                lit: l,
+                need: p.goal_tp,
+                until: p.goal_tp,
+                cond: u32::MAX,
+                origin: OpenOrigin::Goal(i as u32),
+                after_start: false,
+            };
+            if !self.add_open(&mut p, o) {
+                return Vec::new();
+            }
+        }
+        let Some(nets) = &self.task.htn else { return vec![p] };
+        nets.iter()
+            .filter_map(|net| {
+                let mut p = p.clone();
+                let mut ids = Vec::new();
+                for &(op, _) in &net.tasks {
+                    ids.push(self.add_step(&mut p, op, None)?);
+                }
+                for o in &net.orders {
+                    let a = p.steps[ids[o.from.0] as usize].tp(o.from.1);
+                    let b = p.steps[ids[o.to.0] as usize].tp(o.to.1);
+                    if !p.stn.add(a, b, if o.strict { EPS } else { 0.0 }) {
+                        return None;
+                    }
+                }
+                Some(p)
+            })
+            .collect()
+    }
+
+    /// Producers of a literal that could come before `need` and that are
+    /// the last of their family before it (4.3.1): `(step, time point)`.
+    pub(super) fn producers(&self, p: &Plan, o: &Open, out: &mut Vec<(u32, Tp)>) {
+        out.clear();
+        if self.task.holds_initially(o.lit) && o.step != INIT {
+            out.push((INIT, ORIGIN));
+        }
+        for s in 0..p.steps.len() as u32 {
+            for (l, tp) in p.effects(self.task, s) {
+                let own_start = s == o.step && o.after_start && tp == o.need;
+                if l == o.lit
+                    && (tp != o.need || own_start)
+                    && (own_start || !p.stn.before(o.need, tp))
+                    && !(s == o.step && tp == o.until)
+                {
+                    out.push((s, tp));
+                }
+            }
+        }
+        // The last known position: drop producers that another position
+        // change of the same member necessarily follows before the need.
+        if !is_neg(o.lit)
+            && let Some((group, _)) = self.task.family[atom_of(o.lit) as usize]
+            && !out.is_empty()
+        {
+            let mut changes: Vec<Tp> = Vec::new();
+            for s in 0..p.steps.len() as u32 {
+                for (l, tp) in p.effects(self.task, s) {
+                    if !is_neg(l)
+                        && l != o.lit
+                        && self.task.family[atom_of(l) as usize].is_some_and(|(g, _)| g == group)
+                        && p.stn.before(tp, o.need)
+                    {
+                        changes.push(tp);
+                    }
+                }
+            }
+            out.retain(|&(_, e)| !changes.iter().any(|&c| (e == ORIGIN || p.stn.before(e, c)) && c != e));
+        }
+    }
+
+    /// Whether refining step `s` with method `m` only goes round a loop: a
+    /// subtask of `m` is the ground task of `s` or of one of its ancestors
+    /// (same task, same arguments), and no method on the way from that task
+    /// down (`m` included) adds an action that changes the state (a pure
+    /// loop), or the
+    /// repeat goes through other tasks and has arguments (a cycle:
+    /// `get-to truck1 city2` again below `get-to truck1 city1` below itself
+    /// means driving back to where the truck was). A task that recurses
+    /// into itself directly through actions (`S → t S y`, PCP's;
+    /// `remove-all r → remove t r, remove-all r`, any "repeat until done"
+    /// task) makes progress and is kept.
+    pub(super) fn only_loops(&self, p: &Plan, s: u32, m: u32) -> bool {
+        // A method makes progress when one of its actions changes the state:
+        // deletes something or adds what it does not need (`drive l l` on a
+        // road from a place to itself does not).
+        let changes = |op: &super::super::task::Op<'_>| {
+            op.effs.iter().any(|e| is_neg(e.lit) || !op.conds.iter().any(|c| c.lit == e.lit))
+        };
+        let primitive = |m: u32| {
+            self.task.methods[m as usize].subtasks.iter().any(|&(_, op)| {
+                let op = &self.task.ops[op as usize];
+                !op.is_abstract && changes(op)
+            })
+        };
+        // `s` and its ancestors, each with whether an action that changes
+        // the state was added on the way down from it to `m`'s subtasks.
+        let mut above = vec![(s, primitive(m))];
+        while let Some(parent) = p.steps[above[above.len() - 1].0 as usize].parent {
+            let progress = above[above.len() - 1].1 || p.steps[parent as usize].method.is_some_and(primitive);
+            above.push((parent, progress));
+        }
+        self.task.methods[m as usize].subtasks.iter().any(|&(_, sub)| {
+            // The nearest step above (or `s` itself) with the same ground task decides.
+            above.iter().find(|&&(cur, _)| p.op_of(cur) == Some(sub)).is_some_and(|&(cur, progress)| {
+                let through_others = cur != s && !self.task.ops[sub as usize].args.is_empty();
+                !progress || through_others
+            })
+        })
+    }
+
+    /// The two ways to solve a threat: the threatening happening (or
+    /// abstract step) before the producer, or after the link's protection.
+    pub(super) fn threat_orders(&self, p: &Plan, t: &Threat) -> [(Tp, Tp); 2] {
+        let link = p.links[t.link as usize];
+        let step = p.steps[t.step as usize];
+        match t.kind {
+            ThreatKind::Delete(tp) | ThreatKind::Position(tp) => [(tp, link.from_tp), (link.until, tp)],
+            ThreatKind::Conflict => [(step.end, link.from_tp), (link.until, step.start)],
+        }
+    }
+
+    /// Drops the threats that are no longer threats and orders in place,
+    /// until none is left, those that one ordering only still solves: false
+    /// when one has none (the plan is dead). `exact` asks the network
+    /// whether each ordering can be added (a dry run of its propagation);
+    /// else only the closure is read (an ordering it does not contradict).
+    pub(super) fn force_threats(&self, p: &mut Plan, exact: bool) -> bool {
+        loop {
+            let mut forced = false;
+            let mut i = p.threats.len();
+            while i > 0 {
+                i -= 1;
+                let t = p.threats[i];
+                if !p.still_threat(self.task, &t) {
+                    std::rc::Rc::make_mut(&mut p.threats).remove(i);
+                    continue;
+                }
+                let ok = |p: &Plan, a: Tp, b: Tp| {
+                    if exact { p.stn.allows(a, b, EPS) } else { !p.stn.before(b, a) && b != a }
+                };
+                let [(a1, b1), (a2, b2)] = self.threat_orders(p, &t);
+                let (a, b) = match (ok(p, a1, b1), ok(p, a2, b2)) {
+                    (false, false) => return false,
+                    (true, true) => continue,
+                    (true, false) => (a1, b1),
+                    (false, true) => (a2, b2),
+                };
+                if !p.stn.add(a, b, EPS) {
+                    return false;
+                }
+                std::rc::Rc::make_mut(&mut p.threats).remove(i);
+                forced = true;
+            }
+            if !forced {
+                return true;
+            }
+        }
+    }
+
+    /// The children of a plan for its chosen flaw.
+    pub(super) fn resolvers(&self, p: &Plan, flaw: Flaw, out: &mut Vec<Plan>) {
+        match flaw {
+            Flaw::Threat(i) => {
+                let t: Threat = p.threats[i];
+                for (a, b) in self.threat_orders(p, &t) {
+                    let mut c = p.clone();
+                    std::rc::Rc::make_mut(&mut c.threats).remove(i);
+                    if c.stn.add(a, b, EPS) {
+                        out.push(c);
+                    }
+                }
+            }
+            Flaw::Open(i) => self.open_resolvers(p, i, out),
+            Flaw::Abstract(i) => {
+                let s = p.abstracts[i];
+                let Kind::Op(op) = p.steps[s as usize].kind else { return };
+                for &m in &self.task.ops[op as usize].methods {
+                    if self.only_loops(p, s, m) {
+                        self.loops.set(self.loops.get() + 1);
+                        continue;
+                    }
+                    let mut c = p.clone();
+                    std::rc::Rc::make_mut(&mut c.abstracts).remove(i);
+                    if self.refine(&mut c, s, m) {
+                        out.push(c);
+                    }
+                }
+            }
+            Flaw::Visit(b) => {
+                if let Some(geo) = &self.geo {
+                    geo.extend(self.task, self.h, p, &b, out);
+                }
+            }
+            Flaw::Late(til) => {
+                for step in p.steps.iter() {
+                    if self.elementary(step.kind) {
+                        let mut c = p.clone();
+                        if c.stn.add(til, step.end, EPS) {
+                            out.push(c);
+                        }
+                    }
+                }
+                // Or a new step of 𝒜 after it (an elementary one; a move
+                // only through an itinerary).
+                for (op, o) in self.task.ops.iter().enumerate() {
+                    let op = op as u32;
+                    if !o.allowed
+                        || o.dead
+                        || o.is_abstract
+                        || self.geo.is_some() && self.task.moves.contains_key(&op)
+                    {
+                        continue;
+                    }
+                    let mut c = p.clone();
+                    let Some(s) = self.add_step(&mut c, op, None) else { continue };
+                    let end = c.steps[s as usize].end;
+                    if c.stn.add(til, end, EPS) {
+                        out.push(c);
+                    }
+                }
+            }
+            Flaw::Mutex(a, b) => {
+                for (x, y) in [(a, b), (b, a)] {
+                    let mut c = p.clone();
+                    if c.stn.add(x, y, EPS) {
+                        out.push(c);
+                    }
+                }
+            }
+            Flaw::Dead => {}
+        }
+    }
+
+    pub(super) fn open_resolvers(&self, p: &Plan, i: usize, out: &mut Vec<Plan>) {
+        let o = p.open[i];
+        let mut base = p.clone();
+        base.remove_open(i);
+        // Causal links to existing steps. An abstract step's own effect is
+        // its method's to achieve: only the steps it holds support it.
+        // Another step would make a method that does not do what its
+        // abstract action says; a new one, a second patrol inserted for
+        // the first one's observations, at no cost in makespan when its
+        // robot is idle (an endless plateau of equal f).
+        let mut prod = Vec::new();
+        self.producers(p, &o, &mut prod);
+        if o.origin == OpenOrigin::AbstractEffect {
+            prod.retain(|&(s, _)| s != o.step && p.descends(s, o.step));
+        }
+        for &(s, tp) in &prod {
+            let mut c = base.clone();
+            if c.add_link(self.task, s, tp, &o) {
+                out.push(c);
+            }
+        }
+        if o.origin == OpenOrigin::AbstractEffect {
+            return;
+        }
+        // New steps from 𝒜 (a visit gets its moves from its itinerary).
+        let position = self.is_visit(&o);
+        if let Some(achievers) = self.task.achievers.get(&o.lit) {
+            for &(op, at) in achievers {
+                if position && self.task.moves.contains_key(&op) {
+                    continue;
+                }
+                if self.config.bare && self.task.ops[op as usize].is_abstract {
+                    continue;
+                }
+                let mut c = base.clone();
+                let Some(s) = self.add_step(&mut c, op, None) else { continue };
+                let tp = c.steps[s as usize].tp(at);
+                if c.add_link(self.task, s, tp, &o) {
+                    out.push(c);
+                }
+            }
+        }
+    }
+
+    /// Refines abstract step `s` with method instance `m`: its subtasks as
+    /// children within the step, the method's orderings, its precondition,
+    /// and the step's own effects as open links its subtasks must achieve.
+    pub(super) fn refine(&self, p: &mut Plan, s: u32, m: u32) -> bool {
+        let method = &self.task.methods[m as usize];
+        if let Some(st) = p.steps.get_mut(s as usize) {
+            st.method = Some(m);
+        }
+        let mut ids = Vec::with_capacity(method.subtasks.len());
+        for &(_, op) in &method.subtasks {
+            match self.add_step(p, op, Some(s)) {
+                Some(id) => ids.push(id),
+                None => return false,
+            }
+        }
+        for o in &method.orders {
+            let a = p.steps[ids[o.from.0] as usize].tp(o.from.1);
+            let b = p.steps[ids[o.to.0] as usize].tp(o.to.1);
+            if !p.stn.add(a, b, if o.strict { EPS } else { 0.0 }) {
+                return false;
+            }
+        }
+        let step = p.steps[s as usize];
+        for (ci, c) in method.pre.iter().enumerate() {
+            let o = Open {
+                step: s,
+                lit: c.lit,
+                need: step.start,
+                until: step.start,
+                cond: u32::MAX,
+                origin: OpenOrigin::MethodPre(m, ci as u32),
+                after_start: false,
+            };
+            // A position the step's itinerary already brought its member
+            // to: the same causal link, or the method does not apply.
+            let linked = match self.geo.as_ref().and_then(|_| Geo::position(self.task, c.lit)) {
+                Some((g, _)) => p.links.iter().copied().find(|l| {
+                    l.to == s
+                        && l.need == step.start
+                        && Geo::position(self.task, l.lit).is_some_and(|(g2, _)| g2 == g)
+                }),
+                None => None,
+            };
+            if let Some(l) = linked {
+                if !(l.lit == c.lit && p.add_link(self.task, l.from, l.from_tp, &o)) {
+                    return false;
+                }
+                continue;
+            }
+            if !self.add_open(p, o) {
+                return false;
+            }
+        }
+        let Kind::Op(op) = step.kind else { return true };
+        for e in &self.task.ops[op as usize].effs {
+            let tp = step.tp(e.at);
+            let o = Open {
+                step: s,
+                lit: e.lit,
+                need: tp,
+                until: tp,
+                cond: u32::MAX,
+                origin: OpenOrigin::AbstractEffect,
+                after_start: false,
+            };
+            if !self.add_open(p, o) {
+                return false;
+            }
+        }
+        true
+    }
+}
