@@ -222,6 +222,30 @@ fn patrols_that_leave_positions_undeclared_are_planned() {
     solve_fixture("patrols-leave-positions-undeclared.pddl");
 }
 
+/// Names are written as declared (`GroundStation2`, not `groundstation2`)
+/// in every format, though matched case-insensitively: pandaPIparser's
+/// verifier compares them exactly (without its lenient `-l`).
+#[test]
+fn names_are_written_as_declared() {
+    let dir = root().join("tests/planner/mixed-case-names");
+    let problem = dir.join("problem.hddl");
+    let (mut host, result) = plan(&dir.join("domain.hddl"), &problem, &Config::default(), &limits(30));
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &problem, &result);
+    let plan = result.plan.as_ref().expect("a plan");
+    let (val, hier, json) = (plan.to_val("t"), plan.to_hierarchical("t"), plan.to_json());
+    for text in [&val, &hier, &json] {
+        for name in ["Drive_To", "Drop-Off", "MarsRover1", "GroundStation2", "Base_Camp"] {
+            assert!(text.contains(name), "{name} is not written as declared:\n{text}");
+        }
+        assert!(!text.contains("groundstation2"), "{text}");
+    }
+    for text in [&hier, &json] {
+        assert!(text.contains("Deliver-To") && text.contains("M-Drive-Then-Drop"), "{text}");
+    }
+    assert!(val.contains("(Drive_To MarsRover1 Base_Camp GroundStation2)"), "{val}");
+}
+
 /// A task without arguments that refines into itself after an action (PCP's
 /// `S → t S y`) is refined inside its own refinement; the moves it needs come
 /// from its methods, never from chains of moves (𝒜 is empty: pure HTN).

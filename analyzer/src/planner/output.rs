@@ -76,7 +76,16 @@ pub struct SolvedPlan {
 /// Builds the solved plan from the search's final plan.
 pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
     let g = task.g;
-    let obj = |o: u32| g.objects.name(o).to_string();
+    // Names as declared: matching is case-insensitive, but a verifier that
+    // compares names exactly (pandaPIparser without `-l`) rejects
+    // `groundstation2` for `GroundStation2`.
+    let obj = |o: u32| g.objects.declared(o).to_string();
+    let declared = |item, key: &str| match &lower_item(db, item).data {
+        ItemData::Action(a) => a.name.text.to_string(),
+        ItemData::Task(t) => t.name.text.to_string(),
+        ItemData::Method(m) => m.name.text.to_string(),
+        _ => key.to_string(),
+    };
     // Output order: primitive steps by start, then abstract ones by start.
     let mut order: Vec<u32> = (0..p.steps.len() as u32).filter(|&s| p.op_of(s).is_some()).collect();
     let key = |s: u32| {
@@ -110,14 +119,17 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
             let op = &task.ops[p.op_of(s).expect("op step") as usize];
             SolvedStep {
                 id: i,
-                name: op.name.to_string(),
+                name: declared(op.item, &op.name),
                 args: op.args.iter().map(|&o| obj(o)).collect(),
                 agents: op.agents.iter().map(|&o| obj(o)).collect(),
                 start: at(st.start),
                 end: at(st.end),
                 durative: !op.is_abstract && !op.instant,
                 is_abstract: op.is_abstract,
-                method: st.method.map(|m| task.methods[m as usize].name.to_string()),
+                method: st.method.map(|m| {
+                    let m = &task.methods[m as usize];
+                    declared(m.item, &m.name)
+                }),
                 subtasks: Vec::new(),
                 bounds: [
                     (at(st.start), lst[st.start as usize].max(at(st.start))),

@@ -55,6 +55,8 @@ pub struct SigDecl<'db> {
 
 #[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
 pub struct ObjDecl<'db> {
+    /// The name as declared (the table's key is its lower-cased form).
+    pub name: Str,
     pub ty: TypeSet,
     pub loc: Loc<'db>,
 }
@@ -218,7 +220,8 @@ pub fn domain_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> DomainSymbols<'d
             }
             ItemData::Constants(cs) => {
                 for c in cs {
-                    let value = ObjDecl { ty: type_set(&c.ty), loc: loc(c.name.span) };
+                    let value =
+                        ObjDecl { name: c.name.text.clone(), ty: type_set(&c.ty), loc: loc(c.name.span) };
                     insert(&mut s.constants, &mut s.duplicates, "constant", &c.name.key, value, |d| d.loc);
                 }
             }
@@ -340,7 +343,11 @@ pub fn problem_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> ProblemSymbols<
             ItemData::Requirements(reqs) => s.requirements.extend(reqs.iter().map(|r| r.key.clone())),
             ItemData::Objects(objs) => {
                 for o in objs {
-                    let value = ObjDecl { ty: type_set(&o.ty), loc: Loc { item, span: o.name.span } };
+                    let value = ObjDecl {
+                        name: o.name.text.clone(),
+                        ty: type_set(&o.ty),
+                        loc: Loc { item, span: o.name.span },
+                    };
                     insert(&mut s.objects, &mut s.duplicates, "object", &o.name.key, value, |d| d.loc);
                 }
             }

@@ -63,6 +63,8 @@ impl Interner {
 #[derive(Debug, Clone, PartialEq, Eq, Default, salsa::SalsaValue)]
 pub struct Objects<'db> {
     names: Interner,
+    /// Each object's name as declared (`names` has the lower-cased keys).
+    declared: Vec<Str>,
     locs: Vec<Loc<'db>>,
     /// Each object's types: its declared alternatives (`either`) and all their
     /// ancestors, `object` included.
@@ -99,6 +101,7 @@ impl<'db> Objects<'db> {
             for t in &types {
                 objects.members.entry(t.clone()).or_default().push(id);
             }
+            objects.declared.push(decl.name.clone());
             objects.locs.push(decl.loc);
             objects.types.push(types);
         }
@@ -121,6 +124,12 @@ impl<'db> Objects<'db> {
     /// The lower-case name of an object.
     pub fn name(&self, id: ObjId) -> &str {
         self.names.name(id)
+    }
+
+    /// The name of an object as declared: what a plan writes (PDDL names
+    /// match case-insensitively, but other tools may not).
+    pub fn declared(&self, id: ObjId) -> &str {
+        self.declared.get(id as usize).map_or_else(|| self.name(id), |n| n.as_str())
     }
 
     /// Where the object is declared.
