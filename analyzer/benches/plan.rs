@@ -2,7 +2,9 @@
 //! HiPOP planner on the benchmark suites, every plan validated.
 //!
 //! Suites: `survivors` (the 72 generated problems), `satellite` (the IPC 2002
-//! temporal Satellite corpus), `satellite-abstract` (the same problems with
+//! temporal Satellite corpus, constant durations), `satellite-time` (its
+//! variant whose durations come from numeric fluents: 0.5146, not 5),
+//! `satellite-abstract` (the same problems as `satellite` with
 //! abstract actions and `:allowed-actions`), `surveillance` (the case-study
 //! sample), `hddl` (the IPC 2020 partial-order HDDL domains). Default: all of
 //! them; every configuration of `Config::MAIN`, the default one only for hddl.
@@ -10,8 +12,9 @@
 //! Each (problem, configuration) runs in a child process (this binary again,
 //! in the hidden `--one` mode): a crash stays one failed row, the peak memory
 //! (VmHWM) is the problem's own, and `--jobs 2` runs two at once. The child
-//! plans, then validates the plan it found with hipop's validator: the VAL
-//! text always, the hierarchical text too when the plan has abstract steps.
+//! plans, then validates the plan it found with hipop's validator, at VAL's
+//! default tolerance (0.01) and at 0.0001: the VAL text always, the
+//! hierarchical text too when the plan has abstract steps.
 //! An invalid plan is a loud failure: listed first in the report, and the
 //! bench exits with status 1.
 //!
@@ -38,8 +41,12 @@ use serde_json::{Value, json};
 static GLOBAL: hipop_analyzer::alloc::Counting<mimalloc::MiMalloc> =
     hipop_analyzer::alloc::Counting::new(mimalloc::MiMalloc);
 
-const SUITES: [&str; 5] = ["survivors", "satellite", "satellite-abstract", "surveillance", "hddl"];
+const SUITES: [&str; 6] =
+    ["survivors", "satellite", "satellite-time", "satellite-abstract", "surveillance", "hddl"];
 const SATELLITE: &str = "ipc2002-temporal/satellite-time-simple-automatic";
+const SATELLITE_TIME: &str = "ipc2002-temporal/satellite-time-automatic";
+/// Every plan must be valid from VAL's default tolerance down to this one.
+const TOLERANCES: [f64; 2] = [Options::DEFAULT_TOLERANCE, 0.0001];
 const HDDL: &str = "ipc2020-hddl/partial-order";
 
 /// The shared corpora: `HIPOP_CORPORA`, or `../shared/corpora` beside the repository.
@@ -52,7 +59,7 @@ fn corpora() -> PathBuf {
 const HELP: &str = "\
 cargo bench -p hipop-analyzer --bench plan -- [SUITE…] [OPTIONS]
 
-SUITES: survivors satellite satellite-abstract surveillance hddl (default: all)
+SUITES: survivors satellite satellite-time satellite-abstract surveillance hddl (default: all)
 
 OPTIONS:
     --configs A,B       configurations (default: Config::MAIN; the default one for hddl)
@@ -250,7 +257,19 @@ fn one(raw: &[String]) -> ExitCode {
         for (key, ext, text) in texts {
             let _ = std::fs::write(format!("{prefix}.{ext}"), &text);
             let f = host.set_file_text(&format!("bench.{ext}"), text.as_str());
-            let v = host.analysis().validate_plan(f, None, pf, &Options::default());
+            // The first tolerance at which the plan is not valid decides.
+            let checks = TOLERANCES.map(|tolerance| {
+                let v =
+                    host.analysis().validate_plan(f, None, pf, &Options { tolerance, ..Options::default() });
+                (tolerance, v)
+            });
+            let failed = checks.iter().position(|(_, v)| {
+                !matches!(v, Ok(Some(v)) if v.valid && v.checked && v.diagnostics.iter().all(|d| d.code.id != "W0411"))
+            });
+            let (tolerance, v) = match failed {
+                Some(i) => checks[i].clone(),
+                None => checks[0].clone(),
+            };
             let check = match v {
                 Ok(Some(v)) => {
                     // The plans are written with every dependent happening
@@ -262,9 +281,10 @@ fn one(raw: &[String]) -> ExitCode {
                         "error": if ok {
                             None
                         } else if let Some(d) = close.filter(|_| v.valid && v.checked) {
-                            Some(format!("W0411 {}", d.message))
+                            Some(format!("-t {tolerance}: W0411 {}", d.message))
                         } else {
-                            Some(first_error(&v.diagnostics, f, &text).unwrap_or_else(|| "not checked".into()))
+                            let e = first_error(&v.diagnostics, f, &text).unwrap_or_else(|| "not checked".into());
+                            Some(format!("-t {tolerance}: {e}"))
                         },
                         "makespan": v.makespan,
                     })
@@ -484,9 +504,14 @@ fn problems(
                     out.push((suite, suite.to_string(), stem(p), paths[0].clone(), p.clone()));
                 }
             }
-            "satellite" | "satellite-abstract" => {
-                if !a.satellite.join("domain.pddl").is_file() {
-                    let note = format!("{suite}: skipped, no corpus at {}", a.satellite.display());
+            "satellite" | "satellite-time" | "satellite-abstract" => {
+                let corpus = if suite == "satellite-time" {
+                    corpora().join(SATELLITE_TIME)
+                } else {
+                    a.satellite.clone()
+                };
+                if !corpus.join("domain.pddl").is_file() {
+                    let note = format!("{suite}: skipped, no corpus at {}", corpus.display());
                     eprintln!("{note}");
                     notes.push(note);
                     continue;
@@ -506,7 +531,7 @@ fn problems(
                         }
                     }
                 } else {
-                    let dir = a.satellite.join("instances");
+                    let dir = corpus.join("instances");
                     let mut ps: Vec<PathBuf> = std::fs::read_dir(&dir)
                         .map(|d| {
                             d.flatten()
@@ -520,7 +545,7 @@ fn problems(
                         (digits.parse::<u64>().unwrap_or(u64::MAX), stem(p))
                     });
                     for p in ps {
-                        out.push((suite, suite.to_string(), stem(&p), a.satellite.join("domain.pddl"), p));
+                        out.push((suite, suite.to_string(), stem(&p), corpus.join("domain.pddl"), p));
                     }
                 }
             }

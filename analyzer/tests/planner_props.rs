@@ -603,18 +603,25 @@ fn show(host: &AnalysisHost, diagnostics: &[Diagnostic]) -> String {
 
 /// Validates a plan text against the problem: `Err` with the validator's
 /// diagnostics when it is not valid.
+/// At VAL's default tolerance and at 0.0001: a written plan is valid at
+/// every tolerance between (docs/planner.md).
 fn validate(host: &mut AnalysisHost, problem: SourceFile, name: &str, plan: &str) -> Result<(), String> {
     let f = host.set_file_text(name, plan.to_string());
-    let v = host
-        .analysis()
-        .validate_plan(f, None, problem, &hipop_analyzer::validate::Options::default())
-        .expect("not cancelled")
-        .expect("the file has a problem");
-    if v.valid && v.checked {
-        Ok(())
-    } else {
-        Err(format!("the validator rejects {name}:\n{}\n{plan}", show(host, &v.diagnostics)))
+    for tolerance in [0.01, 0.0001] {
+        let options = hipop_analyzer::validate::Options { tolerance, ..Default::default() };
+        let v = host
+            .analysis()
+            .validate_plan(f, None, problem, &options)
+            .expect("not cancelled")
+            .expect("a problem");
+        if !(v.valid && v.checked) {
+            return Err(format!(
+                "the validator rejects {name} at tolerance {tolerance}:\n{}\n{plan}",
+                show(host, &v.diagnostics)
+            ));
+        }
     }
+    Ok(())
 }
 
 /// Validates a solved plan in VAL's format, as JSON and in the IPC 2020

@@ -25,8 +25,13 @@ pub struct SolvedStep {
     pub name: String,
     pub args: Vec<String>,
     pub agents: Vec<String>,
+    /// When it starts: the earliest schedule, written as [`tidy`] gives it.
     pub start: f64,
+    /// `start + duration` when the step has a duration, as VAL computes it.
     pub end: f64,
+    /// The model's duration, exactly (a durative action, an abstract action
+    /// that declares one); `None` for an `:action` and an HDDL task.
+    pub duration: Option<f64>,
     /// A durative action (VAL writes its duration); abstract steps are not.
     pub durative: bool,
     pub is_abstract: bool,
@@ -35,6 +40,13 @@ pub struct SolvedStep {
     pub subtasks: Vec<usize>,
     /// Earliest and latest start, earliest and latest end, without delaying the plan's end.
     pub bounds: [(f64, f64); 2],
+}
+
+impl SolvedStep {
+    /// How long the step lasts as written: its duration, else its span.
+    pub fn length(&self) -> f64 {
+        self.duration.unwrap_or_else(|| tidy(self.end - self.start))
+    }
 }
 
 /// A causal link: `None` is the initial state (`from`) or the goal (`to`).
@@ -103,27 +115,28 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
     }
     let horizon = p.stn.est(p.goal_tp);
     let lst = p.stn.latest(horizon);
-    // Times as written (three decimals): the earliest schedule on the
-    // millisecond grid, so that what is printed keeps every separation;
-    // the real-valued one if the rounded network has none.
-    let grid = p.stn.grid_schedule(1000.0);
-    let at = |tp: u32| match &grid {
-        Some(g) => g[tp as usize] as f64 / 1000.0,
-        None => p.stn.est(tp),
-    };
+    // Times as written: the earliest schedule (exact durations, dependent
+    // happenings ε apart), each time the shortest decimal within `TIDY` of
+    // it. A step with a duration ends its written start plus its exact
+    // duration later, as VAL computes its end.
+    let at = |tp: u32| tidy(p.stn.est(tp));
     let mut steps: Vec<SolvedStep> = order
         .iter()
         .enumerate()
         .map(|(i, &s)| {
             let st = p.steps[s as usize];
             let op = &task.ops[p.op_of(s).expect("op step") as usize];
+            let start = at(st.start);
+            let duration = if op.instant { None } else { op.duration };
+            let end = duration.map_or_else(|| at(st.end), |d| start + d);
             SolvedStep {
                 id: i,
                 name: declared(op.item, &op.name),
                 args: op.args.iter().map(|&o| obj(o)).collect(),
                 agents: op.agents.iter().map(|&o| obj(o)).collect(),
-                start: at(st.start),
-                end: at(st.end),
+                start,
+                end,
+                duration,
                 durative: !op.is_abstract && !op.instant,
                 is_abstract: op.is_abstract,
                 method: st.method.map(|m| {
@@ -132,8 +145,8 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
                 }),
                 subtasks: Vec::new(),
                 bounds: [
-                    (at(st.start), lst[st.start as usize].max(at(st.start))),
-                    (at(st.end), lst[st.end as usize].max(at(st.end))),
+                    (start, tidy(lst[st.start as usize]).max(start)),
+                    (end, tidy(lst[st.end as usize]).max(end)),
                 ],
             }
         })
@@ -223,9 +236,36 @@ fn steps_start(order: &[u32], p: &Plan, id: usize) -> f64 {
     p.stn.est(p.steps[order[id] as usize].start)
 }
 
+/// How far a written time may be from the schedule's: far below every
+/// tolerance a plan is checked at (VAL's happenings are a tenth of it wide,
+/// 1e-5 at 1e-4), and two of them together below the validator's 1e-9
+/// slack on separations, so that happenings ε apart stay ε apart.
+const TIDY: f64 = 1e-10;
+
+/// The number with the fewest decimals within [`TIDY`] of `x`: the
+/// schedule's sums are written as the decimals they stand for
+/// (`0.1 + 0.2` as 0.3, not 0.30000000000000004). Durations are never
+/// tidied: they are written exactly.
+pub fn tidy(x: f64) -> f64 {
+    if !x.is_finite() {
+        return x;
+    }
+    for decimals in 0..=17 {
+        if let Ok(v) = format!("{x:.decimals$}").parse::<f64>()
+            && (v - x).abs() <= TIDY
+        {
+            return v;
+        }
+    }
+    x
+}
+
+/// A number as written in a plan: the shortest text that reads back as the
+/// same `f64` (Rust's `Display`: never an exponent, which VAL cannot read).
 fn num(x: f64) -> String {
-    let x = if x.abs() < 5e-4 { 0.0 } else { x };
-    format!("{x:.3}")
+    // No `-0`.
+    let x = if x == 0.0 { 0.0 } else { x };
+    format!("{x}")
 }
 
 impl SolvedPlan {
@@ -251,7 +291,7 @@ impl SolvedPlan {
             }
             out.push(')');
             if s.durative {
-                let _ = write!(out, " [{}]", num(s.end - s.start));
+                let _ = write!(out, " [{}]", num(s.length()));
             }
             out.push('\n');
         }
@@ -292,7 +332,7 @@ impl SolvedPlan {
         out.push_str("<==\n");
         for s in &self.steps {
             if s.durative || s.is_abstract {
-                let _ = writeln!(out, ";@ {} {} [{}]", s.id, num(s.start), num(s.end - s.start));
+                let _ = writeln!(out, ";@ {} {} [{}]", s.id, num(s.start), num(s.length()));
             } else {
                 let _ = writeln!(out, ";@ {} {}", s.id, num(s.start));
             }
@@ -302,7 +342,8 @@ impl SolvedPlan {
 
     /// hipop's JSON plan, schema version 1.
     pub fn to_json(&self) -> String {
-        let round = |x: f64| (x * 1000.0).round() / 1000.0;
+        // serde_json writes the shortest text that reads back the same.
+        let round = |x: f64| if x == 0.0 { 0.0 } else { x }; // no -0
         let steps: Vec<Value> = self
             .steps
             .iter()
@@ -317,7 +358,7 @@ impl SolvedPlan {
                     v["agents"] = json!(s.agents);
                 }
                 if s.durative || s.is_abstract {
-                    v["duration"] = json!(round(s.end - s.start));
+                    v["duration"] = json!(round(s.length()));
                 }
                 v["bounds"] = json!({
                     "start": [round(s.bounds[0].0), round(s.bounds[0].1)],
@@ -453,7 +494,7 @@ pub fn flaws<'db>(db: &'db dyn Db, task: &Task<'db>, best: Option<&Plan>, h: &He
                 "no method instance fits in its duration {}: the shortest, {}, needs at least {} (0.01 s between ordered subtasks)",
                 num(d),
                 task.methods[m as usize].name,
-                num(span)
+                num(tidy(span))
             ),
             None => "no method instance refines it consistently with the rest of the plan".to_string(),
         };

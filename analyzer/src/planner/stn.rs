@@ -301,45 +301,6 @@ impl Stn {
         lst
     }
 
-    /// The earliest schedule on a grid of `1 / scale` (milliseconds for
-    /// 1000): every weight rounded to the grid (ε stays exactly ε, and a
-    /// duration is the same rounded value both ways), then the least
-    /// solution in integers, by label correcting from the origin. A plan
-    /// written with three decimals then says exactly what the network says:
-    /// two happenings ε apart are not printed 0.009 apart, as rounding the
-    /// real-valued schedule could do. `None` when the rounded network has
-    /// no solution (a deadline within a rounding of what it bounds).
-    pub fn grid_schedule(&self, scale: f64) -> Option<Vec<i64>> {
-        let n = self.len();
-        let mut t = vec![0i64; n];
-        let mut relaxed = vec![0u32; n];
-        let mut queued = vec![false; n];
-        let mut queue: VecDeque<Tp> = (0..n as Tp).collect();
-        queued.iter_mut().for_each(|q| *q = true);
-        while let Some(a) = queue.pop_front() {
-            queued[a as usize] = false;
-            for e in self.edges(a) {
-                let v = t[a as usize] + (e.w * scale).round() as i64;
-                let b = e.to as usize;
-                if v > t[b] {
-                    if e.to == ORIGIN {
-                        return None;
-                    }
-                    t[b] = v;
-                    relaxed[b] += 1;
-                    if relaxed[b] as usize > n {
-                        return None;
-                    }
-                    if !queued[b] {
-                        queued[b] = true;
-                        queue.push_back(e.to);
-                    }
-                }
-            }
-        }
-        Some(t)
-    }
-
     /// Words of closure rows and adjacency entries that this network owns
     /// alone (not shared with another plan): for memory measurements.
     pub fn footprint(&self) -> usize {
@@ -366,25 +327,6 @@ mod tests {
         // c ≤ a + 7 is fine; the parent is untouched by the child's edges.
         assert!(s.clone().add(c, a, -7.0));
         assert_eq!(s.edges(c).len(), 0);
-    }
-
-    #[test]
-    fn the_grid_schedule_keeps_separations_exact() {
-        let mut s = Stn::new();
-        let (a, b, c) = (s.add_point(), s.add_point(), s.add_point());
-        // a lasts 1.0004 (a → b both ways), c comes ε after b.
-        assert!(s.add(a, b, 1.0004) && s.add(b, a, -1.0004));
-        assert!(s.add(b, c, EPS));
-        assert!(s.add(ORIGIN, a, 2.7123));
-        let g = s.grid_schedule(1000.0).expect("consistent");
-        assert_eq!((g[a as usize], g[b as usize], g[c as usize]), (2712, 3712, 3722));
-        // A deadline that only the rounding breaks: x ≥ 0.6 ms, y ≥ x + 0.5 ms,
-        // y ≤ 1.2 ms holds (x = 0.6, y = 1.1), not on the grid (1, 2, ≤ 1).
-        let mut d = Stn::new();
-        let (x, y) = (d.add_point(), d.add_point());
-        assert!(d.add(ORIGIN, x, 0.0006) && d.add(x, y, 0.0005) && d.add(y, ORIGIN, -0.0012));
-        assert_eq!(d.grid_schedule(1000.0), None);
-        assert!(d.grid_schedule(10_000.0).is_some());
     }
 
     #[test]

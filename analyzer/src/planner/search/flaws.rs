@@ -170,8 +170,11 @@ impl Search<'_, '_> {
         best.map_or(0, |(i, _)| i)
     }
 
-    /// Two interfering happenings at the same time in the earliest
-    /// schedule: VAL groups them into one happening and rejects the plan.
+    /// Two interfering happenings less than ε apart in the earliest
+    /// schedule: at some tolerance up to ε, VAL groups them into one
+    /// happening and rejects the plan (or the validator warns that they
+    /// are closer than the tolerance, W0411). The schedule is no longer on
+    /// a grid (durations are exact), so "the same time" is not enough.
     pub(super) fn mutex(&self, p: &Plan) -> Option<Flaw> {
         // (time, time point, step) of every happening of a primitive step or timed literal.
         let mut events: Vec<(f64, Tp, u32)> = Vec::new();
@@ -191,10 +194,10 @@ impl Search<'_, '_> {
         events.sort_by(|a, b| a.0.total_cmp(&b.0));
         for (i, a) in events.iter().enumerate() {
             for b in &events[i + 1..] {
-                if b.0 - a.0 > EPS * 0.5 {
+                if b.0 - a.0 >= EPS - 1e-9 {
                     break;
                 }
-                if a.2 == b.2 || p.stn.before(a.1, b.1) && b.0 - a.0 >= EPS - 1e-9 {
+                if a.2 == b.2 {
                     continue;
                 }
                 if self.interfere(p, a.1, a.2, b.1, b.2) {
