@@ -20,7 +20,7 @@
 //!
 //! Output: a Markdown report (`--out`, default `target/plan-bench.md`), a CSV
 //! beside it (one line per problem and configuration), the plans found under
-//! `target/plan-bench/plans/`, the generated inputs under
+//! `target/plan-bench/plans/SUITE/DOMAIN/`, the generated inputs under
 //! `target/plan-bench/inputs/`. Results are recorded in docs/benchmarks.md.
 
 use std::collections::BTreeMap;
@@ -398,7 +398,8 @@ fn parse_run(line: &str) -> Option<Run> {
 /// Plans one job in a child process; kills it well after its time limit
 /// (grounding is not under the search's limit, but must end too).
 fn run_child(job: &Job, limit: f64, plans: &Path) -> Run {
-    let prefix = plans.join(job.suite).join(format!("{}.{}", job.problem, job.config));
+    // By domain too: HDDL domains share problem names (`pfile01`).
+    let prefix = plans.join(job.suite).join(&job.group).join(format!("{}.{}", job.problem, job.config));
     let _ = std::fs::create_dir_all(prefix.parent().expect("a plan folder"));
     let exe = std::env::current_exe().expect("the bench binary");
     let child = Command::new(exe)
