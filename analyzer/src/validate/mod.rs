@@ -3,9 +3,9 @@
 //! reference validator, and reports each failure like a compiler error: the
 //! step, what failed, why, where in the domain and problem, and how to repair.
 //!
-//! - `eval.rs`: ground states; conditions, numeric expressions and effects
+//! - `eval/`: ground states; conditions, numeric expressions and effects
 //!   evaluated in them.
-//! - `temporal.rs`: the happenings of a timed plan and the checks at each.
+//! - `temporal/`: the happenings of a timed plan and the checks at each.
 //! - [`file`]: a plan file read and validated; the one entry point of the
 //!   CLI and the editor.
 //!
