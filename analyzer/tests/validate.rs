@@ -86,6 +86,8 @@ fn read_val_plan(text: &str) -> Vec<TimedStep> {
 /// What a validation gave, owned (the report borrows the database).
 struct Outcome {
     valid: bool,
+    /// The code that stopped validation before a verdict (E0421, E0422).
+    not_judged: Option<&'static str>,
     value: Option<f64>,
     diagnostics: Vec<Diagnostic>,
     /// (name, text, file) of each file, to render diagnostics.
@@ -104,6 +106,7 @@ fn validate(domain: (&str, &str), problem: (&str, &str), plan: (&str, &str), opt
     let report = validate_temporal(db, unit, &steps, options);
     Outcome {
         valid: report.valid,
+        not_judged: report.not_judged().map(|c| c.id),
         value: report.value,
         diagnostics: report.to_diagnostics(db, f),
         files: vec![
@@ -130,7 +133,11 @@ fn render(o: &Outcome) -> String {
     };
     let mut out = format!(
         "verdict: {}\nvalue: {}\n",
-        if o.valid { "valid" } else { "invalid" },
+        match (o.valid, o.not_judged) {
+            (_, Some(code)) => format!("none, not validated ({code})"),
+            (true, None) => "valid".into(),
+            (false, None) => "invalid".into(),
+        },
         o.value.map_or("none".to_string(), |v| format!("{v}"))
     );
     for d in &o.diagnostics {
@@ -286,6 +293,7 @@ fn pddl_plus_samples_are_unsupported_not_judged() {
         if errors(&o).iter().any(|e| e.starts_with("E0421")) {
             // Processes, events, `#t`: one clear error, no verdict on the rest.
             assert_eq!(errors(&o).len(), 1, "{line}:\n{}", render(&o));
+            assert_eq!(o.not_judged, Some("E0421"), "{line}: no verdict");
             unsupported += 1;
         } else {
             // A sample of that folder that is plain PDDL 2.1 (Drive) is judged.
@@ -357,6 +365,12 @@ fn check_fixture(path: &Path) {
         }
         _ => panic!("{name}: `; expect:` is `valid [CODES]` or `invalid CODES`"),
     }
+    // E0421 and E0422 leave a plan without a verdict; no other code does.
+    assert_eq!(
+        o.not_judged.is_some(),
+        codes_seen.iter().any(|&c| c == "E0421" || c == "E0422"),
+        "{name}: a plan is not judged exactly when it needs what is not checked:\n{rendered}"
+    );
     // A fixture named after a code reports it.
     let code = name.split('-').next().unwrap_or_default();
     if code.len() == 5 && code[1..].chars().all(|c| c.is_ascii_digit()) {

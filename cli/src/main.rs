@@ -66,7 +66,9 @@ enum Command {
     ///
     /// Exit status: 0 when every plan is valid (with `--expect invalid`: when
     /// every plan is invalid), 1 when some plan is not, 2 on a usage or I/O
-    /// error, a plan that cannot be read, or a domain or problem with errors.
+    /// error, a plan that cannot be read, a domain or problem with errors
+    /// (PDDL+ processes and events among them), or a plan that needs what the
+    /// validator does not check (E0421: no verdict).
     /// With several plans, the worst status; 2 too when the SVG picture
     /// cannot be written.
     Validate(ValidateArgs),

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use hipop_analyzer::plan::{NameMatching, PlanFormat};
 use hipop_analyzer::validate::{Options as ValidateOptions, Validation};
-use hipop_analyzer::{AnalysisHost, Diagnostic, Severity, SourceFile};
+use hipop_analyzer::{AnalysisHost, Code, Diagnostic, Severity, SourceFile, codes};
 use serde_json::{Value, json};
 
 use crate::render::{Rendered, Sources, print_stdout};
@@ -37,6 +37,9 @@ enum Verdict {
     Invalid,
     /// Not validated: unreadable file, or plan syntax errors.
     Unreadable,
+    /// Read, but validation stopped before a verdict at what it does not
+    /// check (E0421) or a model it cannot validate against (E0422).
+    NotJudged(&'static Code),
 }
 
 impl Verdict {
@@ -45,6 +48,8 @@ impl Verdict {
             Verdict::Valid => "valid",
             Verdict::Invalid => "invalid",
             Verdict::Unreadable => "unreadable",
+            Verdict::NotJudged(c) if *c == codes::UNSUPPORTED_IN_PLAN => "unsupported",
+            Verdict::NotJudged(_) => "not-validated",
         }
     }
 }
@@ -134,6 +139,8 @@ pub fn run(domain: &Path, problem: &Path, plans: &[PathBuf], options: &Options) 
         };
         let verdict = if !validation.checked {
             Verdict::Unreadable
+        } else if let Some(code) = validation.not_judged {
+            Verdict::NotJudged(code)
         } else if validation.valid {
             Verdict::Valid
         } else {
@@ -205,7 +212,7 @@ pub fn run(domain: &Path, problem: &Path, plans: &[PathBuf], options: &Options) 
 /// 0 the expected verdict, 1 the other, 2 not validated.
 fn status(verdict: &Verdict, expect: Expect) -> u8 {
     match (verdict, expect) {
-        (Verdict::Unreadable, _) => 2,
+        (Verdict::Unreadable | Verdict::NotJudged(_), _) => 2,
         (Verdict::Valid, Expect::Valid) | (Verdict::Invalid, Expect::Invalid) => 0,
         _ => 1,
     }
@@ -229,6 +236,14 @@ fn summary_line(r: &PlanResult, expect: Expect) -> String {
         (Verdict::Invalid, Some(v)) => {
             let n = errors(v);
             format!("{}: invalid{expected}: {n} error{}", r.path, plural(n))
+        }
+        (Verdict::NotJudged(code), Some(_)) => {
+            let why = if *code == codes::UNSUPPORTED_IN_PLAN {
+                "it needs what the validator does not check"
+            } else {
+                "the domain or the problem cannot be validated against"
+            };
+            format!("{}: not validated: {why} ({})", r.path, code.id)
         }
         (_, Some(v)) => {
             let n = errors(v);

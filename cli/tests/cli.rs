@@ -473,6 +473,99 @@ fn validate_refuses_a_model_with_errors_and_an_unreadable_plan() {
     assert!(stderr(&o).contains("not validated: the plan cannot be read"), "{}", stderr(&o));
 }
 
+/// Runs `hipop validate` on a PDDL+ model and plan, with `--expect valid`
+/// and `--expect invalid`: each gets no verdict (exit 2). Returns the human
+/// output of the first run.
+fn validate_pddl_plus(domain: &str, problem: &str, plan: &str) -> String {
+    let o = hipop(&["validate", domain, problem, plan, "--color", "never"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 2, "{}", stderr(&o));
+    let e = hipop(&["validate", domain, problem, plan, "--expect", "invalid", "--color", "never"]);
+    assert_eq!(status(&e), 2, "no verdict, so not the expected one either: {}", stderr(&e));
+    stderr(&o)
+}
+
+const PDDL_PLUS: &str = "tests/validate/models/pddl-plus";
+
+#[test]
+fn validate_gives_no_verdict_on_a_pddl_plus_process() {
+    let d = format!("{PDDL_PLUS}-process.pddl");
+    let (p, plan) =
+        (format!("{PDDL_PLUS}-problem.pddl"), "tests/validate/E0421-unsupported-in-plan-process.plan");
+    let err = validate_pddl_plus(&d, &p, plan);
+    assert!(err.contains("error[E0005]") && err.contains("fix them before validating plans"), "{err}");
+}
+
+#[test]
+fn validate_gives_no_verdict_on_a_pddl_plus_event() {
+    let d = format!("{PDDL_PLUS}-event.pddl");
+    let (p, plan) =
+        (format!("{PDDL_PLUS}-problem.pddl"), "tests/validate/E0421-unsupported-in-plan-event.plan");
+    let err = validate_pddl_plus(&d, &p, plan);
+    assert!(err.contains("error[E0005]") && err.contains("fix them before validating plans"), "{err}");
+}
+
+/// `#t` without a process or an event: the model checks, the plan is read,
+/// and validation says it cannot judge it (E0421), in every format.
+#[test]
+fn validate_gives_no_verdict_on_a_continuous_effect() {
+    let d = format!("{PDDL_PLUS}-continuous.pddl");
+    let (p, plan) =
+        (format!("{PDDL_PLUS}-problem.pddl"), "tests/validate/E0421-unsupported-in-plan-continuous.plan");
+    let err = validate_pddl_plus(&d, &p, plan);
+    assert!(err.contains("error[E0421]"), "{err}");
+    assert!(
+        err.ends_with(&format!(
+            "{plan}: not validated: it needs what the validator does not check (E0421)\n"
+        )),
+        "{err}"
+    );
+    let o = hipop(&["validate", &d, &p, plan, "--format", "json"]);
+    assert_eq!(status(&o), 2, "{}", stderr(&o));
+    let doc: Value = serde_json::from_str(&stdout(&o)).expect("one JSON document");
+    assert_eq!(doc["plans"][0]["verdict"], "unsupported");
+    assert_eq!(doc["plans"][0]["makespan"], Value::Null);
+    for format in ["sarif", "github"] {
+        assert_eq!(status(&hipop(&["validate", &d, &p, plan, "--format", format])), 2, "{format}");
+    }
+}
+
+/// VAL's PDDL+ samples: those with processes and events are refused (E0005),
+/// the Tanks sample (continuous effects only) is read but not judged (E0421);
+/// the Drive sample, plain PDDL 2.1 in that folder, gets a verdict.
+#[test]
+fn validate_gives_no_verdict_on_vals_pddl_plus_samples() {
+    const DIR: &str = "../shared/corpora/val-samples/samples/domainsWithEventsAndProcesses";
+    if !workspace_root().join(DIR).is_dir() {
+        eprintln!("SKIP: ../shared/corpora is absent");
+        return;
+    }
+    let sample = |folder: &str, files: [&str; 3]| files.map(|f| format!("{DIR}/{folder}/{f}"));
+    let refused = [
+        sample("Coffee", ["coffeemaking.pddl", "coffeeproblem.pddl", "coffeeplan.txt"]),
+        sample(
+            "VendingMachine",
+            ["vendingmachine.pddl", "vendingmachine-problem.pddl", "vendingmachineplan.txt"],
+        ),
+        sample(
+            "Sleeping Beauty with Capacitor",
+            ["sleepingbeauty.pddl", "sleepingbeauty-problem.pddl", "sleepingbeautyplan.txt"],
+        ),
+    ];
+    for [d, p, plan] in &refused {
+        let err = validate_pddl_plus(d, p, plan);
+        assert!(err.contains("error[E0005]"), "{plan}: {err}");
+    }
+    let [d, p, plan] =
+        sample("Tanks and a Bucket Toricelli", ["tank-domain.pddl", "tank-problem.pddl", "tankplan.txt"]);
+    let err = validate_pddl_plus(&d, &p, &plan);
+    assert!(err.contains("error[E0421]") && err.contains("continuous effects (`#t`)"), "{err}");
+    assert!(err.ends_with("not validated: it needs what the validator does not check (E0421)\n"), "{err}");
+    let [d, p, plan] = sample("Drive", ["drivedomain.pddl", "drive-problem.pddl", "driveplan.txt"]);
+    let o = hipop(&["validate", &d, &p, &plan]);
+    assert_eq!(status(&o), 1, "VAL says the Drive plan is invalid at tolerance 0.01: {}", stderr(&o));
+}
+
 /// `hipop validate` on every plan of tests/validate and tests/validate-htn
 /// (one defect each, or valid): the human and the JSON output, as snapshots. Each plan's header
 /// names its domain, problem and tolerance (`corpus:` is ../shared/corpora).
@@ -516,10 +609,12 @@ fn validate_fixtures(folder: &str, at_least: usize) {
         let human = hipop(&args);
         assert_no_panic(&human);
         let expect_valid = header("expect").is_some_and(|e| e.starts_with("valid"));
-        // A model with errors (E0422's broken domain; E0421's PDDL+ domain,
-        // an error for `hipop check` too) is refused before any plan is read.
-        let model_broken = name.starts_with("E0422") || name.starts_with("E0421");
-        let wanted = if model_broken {
+        // No verdict (exit 2): a model with errors (E0422's broken domain;
+        // a PDDL+ domain with processes or events, an error for `hipop
+        // check` too) is refused before any plan is read; a plan that needs
+        // what the validator does not check (E0421) is read but not judged.
+        let not_judged = name.starts_with("E0422") || name.starts_with("E0421");
+        let wanted = if not_judged {
             2
         } else if expect_valid {
             0
@@ -528,7 +623,8 @@ fn validate_fixtures(folder: &str, at_least: usize) {
         };
         assert_eq!(status(&human), wanted, "{name}: {}", stderr(&human));
         insta::assert_snapshot!(format!("validate_human@{name}"), stderr(&human));
-        if !model_broken {
+        let refused = stderr(&human).contains("fix them before validating plans");
+        if !refused {
             let json = hipop(&[&args[..], &["--format", "json"][..]].concat());
             let doc: Value = serde_json::from_str(&stdout(&json)).expect("one JSON document");
             insta::assert_json_snapshot!(format!("validate_json@{name}"), doc);

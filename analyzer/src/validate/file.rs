@@ -5,7 +5,7 @@
 //! files open in the editor.
 
 use crate::db::{Db, SourceFile, Unit};
-use crate::diagnostic::{Diagnostic, Severity};
+use crate::diagnostic::{Code, Diagnostic, Severity};
 use crate::plan::{NameMatching, Plan, PlanFormat, Step};
 
 use super::hierarchy::{HierarchyOptions, validate_hierarchy};
@@ -18,7 +18,12 @@ pub struct Validation {
     pub valid: bool,
     /// The plan was read without errors and validated (not only read).
     pub checked: bool,
-    /// The time of the last happening.
+    /// Why a plan that was read has no verdict ([`super::Report::not_judged`]):
+    /// E0421 (a feature the validator does not check: PDDL+, derived
+    /// predicates…) or E0422 (a model it cannot validate against). `valid`
+    /// is false then, but the plan is not known to be invalid.
+    pub not_judged: Option<&'static Code>,
+    /// The time of the last happening; `None` for a plan not read or not judged.
     pub makespan: Option<f64>,
     /// The problem's metric on the plan (VAL's "Final value"), or the makespan.
     pub value: Option<f64>,
@@ -64,11 +69,19 @@ pub fn validate_plan<'db>(
     };
     let mut diagnostics = plan.file_diagnostics(file);
     if plan.has_errors() {
-        return Validation { valid: false, checked: false, makespan: None, value: None, diagnostics };
+        return Validation {
+            valid: false,
+            checked: false,
+            not_judged: None,
+            makespan: None,
+            value: None,
+            diagnostics,
+        };
     }
     // The primitive steps are executed (VAL's semantics) whatever the format;
     // a plan with a decomposition is also checked against the methods.
     let report = validate_temporal(db, problem, &timed_steps(plan), options);
+    let not_judged = report.not_judged();
     diagnostics.extend(report.to_diagnostics(db, file));
     let mut valid = report.valid;
     if plan.is_hierarchical() {
@@ -96,7 +109,15 @@ pub fn validate_plan<'db>(
     }
     diagnostics.sort_by_key(|d| (d.range.start(), d.range.end()));
     let valid = valid && diagnostics.iter().all(|d| d.severity != Severity::Error);
-    Validation { valid, checked: true, makespan: Some(report.makespan), value: report.value, diagnostics }
+    Validation {
+        valid,
+        checked: true,
+        not_judged,
+        // Without a verdict, the plan was not executed to its end.
+        makespan: not_judged.is_none().then_some(report.makespan),
+        value: report.value,
+        diagnostics,
+    }
 }
 
 /// The diagnostics of a plan file of the workspace: reading it, and

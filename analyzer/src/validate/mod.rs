@@ -54,7 +54,7 @@ pub use file::{Validation, plan_file_diagnostics, timed_steps, validate_plan};
 use rowan::TextRange;
 
 use crate::db::{Db, SourceFile, Unit};
-use crate::diagnostic::{Code, Diagnostic, Fix, Related};
+use crate::diagnostic::{Code, Diagnostic, Fix, Related, codes};
 use crate::semantics::symbols::Loc;
 
 /// One step of a plan, as a plan reader gives it. Names are as written
@@ -219,6 +219,18 @@ pub struct Report<'db> {
 }
 
 impl<'db> Report<'db> {
+    /// Why the plan has no verdict: the first error execution met stopped it
+    /// before it could judge the plan, E0421 (a feature the validator does
+    /// not check) or E0422 (a model it cannot validate against). An error
+    /// met before is a verdict: the plan is invalid.
+    pub fn not_judged(&self) -> Option<&'static Code> {
+        self.failures
+            .iter()
+            .find(|f| f.code.severity == crate::diagnostic::Severity::Error)
+            .map(|f| f.code)
+            .filter(|&c| c == codes::UNSUPPORTED_IN_PLAN || c == codes::MODEL_NOT_VALIDATABLE)
+    }
+
     /// Every failure as a diagnostic in the plan file.
     pub fn to_diagnostics(&self, db: &'db dyn Db, plan: SourceFile) -> Vec<Diagnostic> {
         self.failures.iter().map(|f| f.to_diagnostic(db, plan)).collect()
