@@ -4,7 +4,7 @@ use std::ops::ControlFlow;
 
 use rowan::TextRange;
 
-use super::{Binding, ErrorKind, Eval, EvalError, Key, Reads, Res, fmt_num, op_text};
+use super::{Binding, ErrorKind, Eval, EvalError, Key, Reads, Res, fmt_operands, op_text};
 use crate::model::{CmpOp, Gd, TimeSpec, Typed};
 use crate::semantics::check::gd_span;
 use crate::semantics::symbols::type_set;
@@ -68,6 +68,9 @@ pub(crate) struct Why {
     pub literal: Option<(Key, bool)>,
     /// The fluents a failed comparison reads.
     pub fluents: Vec<Key>,
+    /// The comparison's numbers are shown exactly, because rounded they
+    /// would look alike: show its fluents' values exactly too.
+    pub exact: bool,
 }
 
 impl<'m> Eval<'_, '_, '_> {
@@ -154,7 +157,13 @@ impl<'m> Eval<'_, '_, '_> {
             Gd::Atom(a) => {
                 let key = self.atom_key(a, b)?;
                 let text = format!("`{}` is {is}", self.world.show_atom(&key));
-                vec![Why { text, span: a.span, literal: Some((key, !negated)), fluents: Vec::new() }]
+                vec![Why {
+                    text,
+                    span: a.span,
+                    literal: Some((key, !negated)),
+                    fluents: Vec::new(),
+                    exact: false,
+                }]
             }
             Gd::Not(x, _) => self.why_false(x, b, !negated)?,
             // A false conjunction: its false parts; a true disjunction that
@@ -174,15 +183,14 @@ impl<'m> Eval<'_, '_, '_> {
                 let mut fluents = Vec::new();
                 self.expr_fluents(l, b, &mut fluents);
                 self.expr_fluents(r, b, &mut fluents);
+                let (ls, rs, exact) = fmt_operands(lv, rv);
                 let text = format!(
-                    "`{}` is {is} ({} {} {} {})",
+                    "`{}` is {is} ({ls} {} {rs} {})",
                     self.show_gd(g, b),
-                    fmt_num(lv),
                     op_text(*op),
-                    fmt_num(rv),
                     if negated { "holds" } else { "fails" }
                 );
-                vec![Why { text, span: *span, literal: None, fluents }]
+                vec![Why { text, span: *span, literal: None, fluents, exact }]
             }
             Gd::Timed(_, x, _) | Gd::Preference(_, x, _) => self.why_false(x, b, negated)?,
             _ => vec![Why {
@@ -190,6 +198,7 @@ impl<'m> Eval<'_, '_, '_> {
                 span: gd_span(g),
                 literal: None,
                 fluents: Vec::new(),
+                exact: false,
             }],
         })
     }
@@ -232,6 +241,7 @@ impl<'m> Eval<'_, '_, '_> {
                 span: gd_span(g),
                 literal: None,
                 fluents: Vec::new(),
+                exact: false,
             });
         }
         Ok(found)

@@ -32,7 +32,7 @@ mod tests;
 pub(crate) use conditions::{Why, for_each_binding, split_timed};
 pub(crate) use effects::{Changes, Phase, Reads, Spanning, Update, has_timed};
 pub(crate) use numeric::NumOp;
-pub(crate) use show::{fmt_num, op_text};
+pub(crate) use show::{fmt_exact, fmt_num, fmt_operands, op_text};
 pub(crate) use state::{GroundWorld, State};
 
 use rowan::TextRange;

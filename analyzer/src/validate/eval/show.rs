@@ -161,8 +161,28 @@ pub(crate) fn op_text(op: CmpOp) -> &'static str {
 }
 
 /// A number for messages: rounded to six decimals, `130.0` rather than
-/// `130` (times and values, not counts).
+/// `130` (times and values, not counts). Times are sums of times and
+/// durations: rounding hides their float noise (`4.11`, not
+/// `4.109999999999999`). Where it could hide why a comparison fails,
+/// [`fmt_operands`] shows more.
 pub(crate) fn fmt_num(v: f64) -> String {
-    let r = (v * 1e6).round() / 1e6;
-    if r.fract() == 0.0 && r.abs() < 1e15 { format!("{r:.1}") } else { format!("{r}") }
+    if !v.is_finite() || v.abs() >= 1e15 {
+        return fmt_exact(v);
+    }
+    fmt_exact((v * 1e6).round() / 1e6)
+}
+
+/// The shortest text that reads back as exactly `v` (`7.999999999995`,
+/// `8.0`): Rust's shortest round-trip representation, with `.0` on whole
+/// numbers.
+pub(crate) fn fmt_exact(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e15 { format!("{v:.1}") } else { format!("{v}") }
+}
+
+/// The two sides of a comparison, as [`fmt_num`] shows them, unless that
+/// shows two different numbers alike (`8.0 >= 8.0 fails` for
+/// 7.999999999995 >= 8): then both exactly, and `true`.
+pub(crate) fn fmt_operands(l: f64, r: f64) -> (String, String, bool) {
+    let (a, b) = (fmt_num(l), fmt_num(r));
+    if a == b && l != r { (fmt_exact(l), fmt_exact(r), true) } else { (a, b, false) }
 }

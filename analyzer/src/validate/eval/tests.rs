@@ -290,4 +290,25 @@ fn numbers_in_messages() {
     assert_eq!(fmt_num(0.1 + 0.2), "0.3");
     assert_eq!(fmt_num(16.1), "16.1");
     assert_eq!(fmt_num(-2.5), "-2.5");
+    assert_eq!(fmt_num(2.61 + 1.5), "4.11");
+    assert_eq!(fmt_num(1e300), format!("{}", 1e300), "no overflow to `inf`");
+    assert_eq!(fmt_exact(7.999999999995), "7.999999999995");
+    assert_eq!(fmt_exact(8.0), "8.0");
+    // A failing comparison never shows two different numbers alike.
+    let s = |(a, b, exact): (String, String, bool)| (a, b, exact);
+    assert_eq!(s(fmt_operands(7.999999999995, 8.0)), ("7.999999999995".into(), "8.0".into(), true));
+    assert_eq!(s(fmt_operands(0.1 + 0.2, 0.3)), ("0.30000000000000004".into(), "0.3".into(), true));
+    assert_eq!(s(fmt_operands(12.0000000001, 30.0)), ("12.0".into(), "30.0".into(), false));
+    assert_eq!(s(fmt_operands(8.0, 8.0)), ("8.0".into(), "8.0".into(), false));
+}
+
+#[test]
+fn a_comparison_failing_by_a_float_error_shows_the_digits_that_fail() {
+    with("(>= (total) 10.000000000001)", |world, state, goal, _| {
+        let eval = Eval { world, state, duration: None, total_time: None };
+        let why = eval.why_false(goal, &mut Binding::default(), false).unwrap();
+        assert_eq!(why.len(), 1);
+        assert!(why[0].text.ends_with("(10.0 >= 10.000000000001 fails)"), "{}", why[0].text);
+        assert!(why[0].exact);
+    });
 }

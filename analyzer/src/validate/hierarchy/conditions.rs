@@ -26,8 +26,8 @@ use crate::diagnostic::codes;
 use crate::model::{ActionKind, CmpOp, Effect, Gd, Method, NumExpr, Str, Term, TimeSpec, Typed};
 use crate::semantics::symbols::Loc;
 use crate::validate::eval::{
-    Binding, Changes, Eval, EvalError, GroundWorld, Phase, Res, State, World, fmt_num, for_each_binding,
-    has_timed, op_text, split_timed,
+    Binding, Changes, Eval, EvalError, GroundWorld, Phase, Res, State, World, fmt_num, fmt_operands,
+    for_each_binding, has_timed, op_text, split_timed,
 };
 use crate::verify::state::{Atoms, ObjId};
 
@@ -617,13 +617,8 @@ fn duration_holds(ev: &Eval<'_, '_, '_>, c: &DurationCheck<'_>, tol: f64) -> Res
             CmpOp::Eq => (lv - rv).abs() < tol,
         };
         if !ok {
-            return Ok(Some(format!(
-                "`{}` is false ({} {} {} fails)",
-                ev.show_gd(g, &b),
-                fmt_num(lv),
-                op_text(*op),
-                fmt_num(rv)
-            )));
+            let (ls, rs, _) = fmt_operands(lv, rv);
+            return Ok(Some(format!("`{}` is false ({ls} {} {rs} fails)", ev.show_gd(g, &b), op_text(*op))));
         }
     }
     Ok(None)

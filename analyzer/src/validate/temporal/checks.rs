@@ -7,7 +7,7 @@ use crate::model::{CmpOp, Gd, NumExpr};
 use crate::semantics::check::gd_span;
 use crate::semantics::symbols::Loc;
 use crate::validate::Failure;
-use crate::validate::eval::{Binding, ErrorKind, Eval, fmt_num};
+use crate::validate::eval::{Binding, ErrorKind, Eval, fmt_exact, fmt_num, fmt_operands};
 
 impl<'a, 'db> Run<'a, 'db> {
     /// Checks a duration constraint of a step; `None` when it holds.
@@ -68,32 +68,30 @@ impl<'a, 'db> Run<'a, 'db> {
         if ok {
             return None;
         }
+        // The duration and the bound, exactly when rounding shows them alike.
+        let (ds, vs, exact) = fmt_operands(d, v);
+        let by = |x: f64| if exact { fmt_exact(x) } else { fmt_num(x) };
         let need = match op {
-            CmpOp::Eq => format!("{} (within the tolerance {tol})", fmt_num(v)),
-            CmpOp::Ge => format!("at least {}", fmt_num(v)),
-            CmpOp::Le => format!("at most {}", fmt_num(v)),
-            CmpOp::Gt => format!("more than {}", fmt_num(v)),
-            CmpOp::Lt => format!("less than {}", fmt_num(v)),
+            CmpOp::Eq => format!("{vs} (within the tolerance {tol})"),
+            CmpOp::Ge => format!("at least {vs}"),
+            CmpOp::Le => format!("at most {vs}"),
+            CmpOp::Gt => format!("more than {vs}"),
+            CmpOp::Lt => format!("less than {vs}"),
         };
         let (hint, target) = match op {
-            CmpOp::Eq => (format!("set the duration to {}", fmt_num(v)), Some(v)),
-            CmpOp::Ge => {
-                (format!("increase the duration by at least {}, to {}", fmt_num(v - d), fmt_num(v)), Some(v))
-            }
-            CmpOp::Le => {
-                (format!("decrease the duration by at least {}, to {}", fmt_num(d - v), fmt_num(v)), Some(v))
-            }
-            CmpOp::Gt => (format!("make the duration more than {}", fmt_num(v)), None),
-            CmpOp::Lt => (format!("make the duration less than {}", fmt_num(v)), None),
+            CmpOp::Eq => (format!("set the duration to {vs}"), Some(v)),
+            CmpOp::Ge => (format!("increase the duration by at least {}, to {vs}", by(v - d)), Some(v)),
+            CmpOp::Le => (format!("decrease the duration by at least {}, to {vs}", by(d - v)), Some(v)),
+            CmpOp::Gt => (format!("make the duration more than {vs}"), None),
+            CmpOp::Lt => (format!("make the duration less than {vs}"), None),
         };
         let shown = eval.show_gd(g, b);
         let mut f = Failure::new(
             codes::DURATION_VIOLATED,
             self.plan[i].duration_span.unwrap_or(self.plan[i].span),
             format!(
-                "{} lasts {}, but its duration constraint `{shown}` requires {need}",
-                self.step_text(i),
-                fmt_num(d)
+                "{} lasts {ds}, but its duration constraint `{shown}` requires {need}",
+                self.step_text(i)
             ),
         )
         .at_step(i)

@@ -8,7 +8,7 @@ use super::{Actor, Event, Run, plan_start};
 use crate::diagnostic::{Code, codes};
 use crate::semantics::symbols::Loc;
 use crate::validate::Failure;
-use crate::validate::eval::{ErrorKind, EvalError, Why, fmt_num};
+use crate::validate::eval::{ErrorKind, EvalError, Why, fmt_exact, fmt_num};
 
 /// A culprit for a false condition: what to add to the message, where.
 #[derive(Default)]
@@ -172,7 +172,8 @@ impl<'a, 'db> Run<'a, 'db> {
             for key in &why.fluents {
                 let name = world.show_fluent(key);
                 let f = self.state.fluents.get(key);
-                let value = f.and_then(|f| self.state.value(f)).map_or("no value".to_string(), fmt_num);
+                let show = if why.exact { fmt_exact } else { fmt_num };
+                let value = f.and_then(|f| self.state.value(f)).map_or("no value".to_string(), show);
                 match f.and_then(|f| self.fluent_last.get(&f)) {
                     Some(ch) => {
                         parts.push(format!(
