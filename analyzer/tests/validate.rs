@@ -36,7 +36,7 @@ fn range(a: usize, b: usize) -> TextRange {
 fn read_val_plan(text: &str) -> Vec<TimedStep> {
     let mut steps = Vec::new();
     let mut offset = 0;
-    for line in text.split_inclusive('\n') {
+    for (number, line) in text.split_inclusive('\n').enumerate() {
         let base = offset;
         offset += line.len();
         let body = line.split(';').next().unwrap_or("").trim_end();
@@ -78,6 +78,8 @@ fn read_val_plan(text: &str) -> Vec<TimedStep> {
             arg_spans: words[1..].iter().map(|w| w.1).collect(),
             time_span,
             duration_span,
+            id: None,
+            line: number + 1,
         });
     }
     steps
@@ -413,6 +415,7 @@ fn the_reader_of_these_tests_keeps_spans() {
     );
     assert_eq!((at(s.time_span.unwrap()), at(s.duration_span.unwrap())), ("0.000", "[1.000]"));
     assert_eq!((steps[1].time, steps[1].duration, at(steps[1].span)), (None, None, "(drive t0 a b)"));
+    assert_eq!((steps[0].line, steps[1].line), (2, 3));
 }
 
 /// A plan of 10,000 steps (the valid Depots plan, then truck0 driving back

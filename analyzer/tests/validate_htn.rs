@@ -79,7 +79,7 @@ fn validate(
         &HierarchyOptions { check_primitive_steps: false, ..*options },
     );
     let temporal = Options { lenient: options.matching == NameMatching::Lenient, ..Options::default() };
-    let exec = validate_temporal(db, unit, &timed_steps(&read), &temporal);
+    let exec = validate_temporal(db, unit, &timed_steps(&read, plan.1), &temporal);
     Outcome {
         report,
         executable: exec.valid,

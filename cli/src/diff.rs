@@ -149,6 +149,23 @@ enum Side {
     B,
 }
 
+/// How the human output names a step, before its text: by the id the plan
+/// file gives it (`step 3 `), none in a VAL plan (the place, `file:line:col`,
+/// says which line); the one rule of `hipop_analyzer::plan::step_label`.
+fn id_label(s: &Step) -> String {
+    s.id.map_or_else(String::new, |id| format!("step {} ", id.value))
+}
+
+/// Two matched steps' ids: `step 4 `, `step 4 → step 6 `.
+fn id_labels(a: &Step, b: &Step) -> String {
+    match (a.id, b.id) {
+        (Some(x), Some(y)) if x.value != y.value => format!("step {} → step {} ", x.value, y.value),
+        (Some(x), _) => format!("step {} ", x.value),
+        (None, Some(y)) => format!("step {} ", y.value),
+        (None, None) => String::new(),
+    }
+}
+
 /// A step as a line of a VAL plan, or `task args -> method` for an abstract step.
 fn step_text(s: &Step) -> String {
     let mut out = String::new();
@@ -240,7 +257,12 @@ impl View<'_> {
             let one = |side: Side, i: usize| {
                 (
                     self.place(side, i),
-                    format!("{}  ({})", step_text(&self.plan(side).steps[i]), self.agents_text(side, i)),
+                    format!(
+                        "{}{}  ({})",
+                        id_label(&self.plan(side).steps[i]),
+                        step_text(&self.plan(side).steps[i]),
+                        self.agents_text(side, i)
+                    ),
                 )
             };
             section(&mut out, "removed", d.removed.iter().map(|&x| one(Side::A, x)).collect());
@@ -255,7 +277,8 @@ impl View<'_> {
                         n.as_ref().map_or_else(|| "0".to_string(), |n| n.text.to_string())
                     };
                     let mut what = format!(
-                        "{}: start {} → {} ({})",
+                        "{}{}: start {} → {} ({})",
+                        id_labels(sa, sb),
                         sb.call(),
                         text(&sa.start),
                         text(&sb.start),
@@ -282,7 +305,8 @@ impl View<'_> {
                         s.decomposition.as_ref().map_or(String::new(), |d| d.method.text.to_string())
                     };
                     let what = format!(
-                        "{}: {} → {}",
+                        "{}{}: {} → {}",
+                        id_labels(&self.a.steps[x], &self.b.steps[y]),
                         self.b.steps[y].call(),
                         m(&self.a.steps[x]),
                         m(&self.b.steps[y])
@@ -296,7 +320,10 @@ impl View<'_> {
                 "abstract steps removed",
                 d.abstract_removed
                     .iter()
-                    .map(|&x| (self.place(Side::A, x), step_text(&self.a.steps[x])))
+                    .map(|&x| {
+                        let s = &self.a.steps[x];
+                        (self.place(Side::A, x), format!("{}{}", id_label(s), step_text(s)))
+                    })
                     .collect(),
             );
             section(
@@ -304,7 +331,10 @@ impl View<'_> {
                 "abstract steps added",
                 d.abstract_added
                     .iter()
-                    .map(|&y| (self.place(Side::B, y), step_text(&self.b.steps[y])))
+                    .map(|&y| {
+                        let s = &self.b.steps[y];
+                        (self.place(Side::B, y), format!("{}{}", id_label(s), step_text(s)))
+                    })
                     .collect(),
             );
         }

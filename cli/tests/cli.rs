@@ -384,6 +384,29 @@ fn diff_unified_with_method_change() {
     insta::assert_snapshot!(out);
 }
 
+/// Steps with ids (hierarchical, JSON plans) are named by them, as the
+/// validators name them; VAL steps by their place only (a line).
+#[test]
+fn diff_names_steps_by_their_ids() {
+    let (a, b) = ("tests/plans/diff/hierarchical/a.plan", "tests/plans/diff/hierarchical/b.plan");
+    let o = hipop(&["diff", a, b, "--domain", "samples/rover-mission/domain.hddl"]);
+    assert_no_panic(&o);
+    let out = stdout(&o);
+    assert!(out.contains(&format!("{a}:2:1  step 0 (move rover1 base ridge)")), "{out}");
+    assert!(
+        out.contains("step 3 → step 5 (inspect rover1 rock1 base): inspect-direct → inspect-via"),
+        "{out}"
+    );
+    let o = hipop(&["diff", "tests/plans/diff/cross-format/a.plan", "tests/plans/diff/cross-format/b.json"]);
+    assert!(
+        stdout(&o).contains("  step 2 → step 12 (move rover1 ridge base): start 46.000 → 50.0"),
+        "{}",
+        stdout(&o)
+    );
+    let o = hipop(&["diff", DIFF_A, DIFF_B]);
+    assert!(!stdout(&o).contains("step "), "VAL steps have no ids:\n{}", stdout(&o));
+}
+
 #[test]
 fn diff_same_plans_exit_zero() {
     let o = hipop(&["diff", "tests/plans/diff/same/a.plan", "tests/plans/diff/same/b.plan"]);

@@ -61,6 +61,24 @@ impl PlanFormat {
     }
 }
 
+/// How messages name a step, in every validator and in `hipop diff`: by the
+/// id the plan file gives it (hierarchical and JSON plans: `step 8`, the
+/// step whose id is 8), else by its line (VAL plans number no steps: `the
+/// step on line 12`). `line` counts from 1; 0 when unknown (`the step`).
+pub fn step_label(id: Option<u32>, line: usize) -> String {
+    match (id, line) {
+        (Some(id), _) => format!("step {id}"),
+        (None, 0) => "the step".to_string(),
+        (None, line) => format!("the step on line {line}"),
+    }
+}
+
+/// The line, from 1, of a byte offset of a text.
+pub fn line_of(text: &str, offset: rowan::TextSize) -> usize {
+    let end = usize::from(offset).min(text.len());
+    text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
+}
+
 /// A name (action, task, method, object, agent) as written, with its range.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Symbol {

@@ -35,11 +35,38 @@ pub struct Validation {
 /// the order of the file: a VAL plan's steps, a hierarchical plan's
 /// primitive steps (listed in execution order, the IPC 2020 convention;
 /// timed by hipop's annotations when it has them).
-pub fn timed_steps(plan: &Plan) -> Vec<TimedStep> {
-    plan.primitive_steps().map(|(_, s)| timed_step(s)).collect()
+/// `text` is the plan file's, for the steps' lines.
+pub fn timed_steps(plan: &Plan, text: &str) -> Vec<TimedStep> {
+    let mut lines = Lines::new(text);
+    plan.primitive_steps().map(|(_, s)| timed_step(s, lines.line_of(s.range.start()))).collect()
 }
 
-fn timed_step(s: &Step) -> TimedStep {
+/// Lines of offsets that mostly come in increasing order (steps in the
+/// order of the file): counted on from the previous offset, not from the
+/// start of the text.
+struct Lines<'t> {
+    text: &'t str,
+    offset: usize,
+    line: usize,
+}
+
+impl<'t> Lines<'t> {
+    fn new(text: &'t str) -> Self {
+        Lines { text, offset: 0, line: 1 }
+    }
+
+    fn line_of(&mut self, offset: rowan::TextSize) -> usize {
+        let to = usize::from(offset).min(self.text.len());
+        if to < self.offset {
+            (self.offset, self.line) = (0, 1);
+        }
+        self.line += self.text.as_bytes()[self.offset..to].iter().filter(|&&b| b == b'\n').count();
+        self.offset = to;
+        self.line
+    }
+}
+
+fn timed_step(s: &Step, line: usize) -> TimedStep {
     TimedStep {
         name: s.name.text.to_string(),
         args: s.args.iter().map(|a| a.text.to_string()).collect(),
@@ -50,6 +77,8 @@ fn timed_step(s: &Step) -> TimedStep {
         arg_spans: s.args.iter().map(|a| a.range).collect(),
         time_span: s.start.as_ref().map(|n| n.range),
         duration_span: s.duration.as_ref().map(|n| n.range),
+        id: s.id.map(|id| id.value),
+        line,
     }
 }
 
@@ -80,7 +109,7 @@ pub fn validate_plan<'db>(
     }
     // The primitive steps are executed (VAL's semantics) whatever the format;
     // a plan with a decomposition is also checked against the methods.
-    let report = validate_temporal(db, problem, &timed_steps(plan), options);
+    let report = validate_temporal(db, problem, &timed_steps(plan, file.text(db)), options);
     let not_judged = report.not_judged();
     diagnostics.extend(report.to_diagnostics(db, file));
     let mut valid = report.valid;

@@ -411,13 +411,15 @@ impl<'a, 'db> Cx<'a, 'db> {
 
     // ---- steps -------------------------------------------------------------
 
-    /// `step 8 `(deliver package-0 city-loc-0)``.
+    /// `step 8 `(deliver package-0 city-loc-0)``: by its id in the file,
+    /// else by its line ([`crate::plan::step_label`]).
     fn step_text(&self, i: usize) -> String {
         let s = &self.plan.steps[i];
-        match s.id {
-            Some(id) => format!("step {} `{}`", id.value, s.call()),
-            None => format!("step {} `{}`", i + 1, s.call()),
-        }
+        let line = match s.id {
+            Some(_) => 0,
+            None => crate::plan::line_of(self.file.text(self.db), s.range.start()),
+        };
+        format!("{} `{}`", crate::plan::step_label(s.id.map(|id| id.value), line), s.call())
     }
 
     /// The step's id as written, or its line.

@@ -81,6 +81,11 @@ pub struct TimedStep {
     pub time_span: Option<TextRange>,
     /// The duration with its brackets (`[3.0]`), when written.
     pub duration_span: Option<TextRange>,
+    /// The step's id in the plan file (hierarchical and JSON plans); VAL
+    /// plans have none.
+    pub id: Option<u32>,
+    /// The line of the plan file the step is on, from 1 (0: unknown).
+    pub line: usize,
 }
 
 impl TimedStep {
@@ -96,7 +101,20 @@ impl TimedStep {
             arg_spans: vec![span; args.len()],
             time_span: None,
             duration_span: None,
+            id: None,
+            line: 0,
         }
+    }
+
+    /// How messages name the step: `step 8` (its id in the file), or `the
+    /// step on line 12` in a VAL plan ([`crate::plan::step_label`]).
+    pub fn label(&self) -> String {
+        crate::plan::step_label(self.id, self.line)
+    }
+
+    /// `step 8 `(drive t a b)``, `the step on line 12 `(drive t a b)``.
+    pub fn described(&self) -> String {
+        format!("{} `{}`", self.label(), self.text())
     }
 
     /// `(name args…)` as written.

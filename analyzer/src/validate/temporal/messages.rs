@@ -20,8 +20,9 @@ pub(super) struct Culprit<'db> {
 }
 
 impl<'a, 'db> Run<'a, 'db> {
+    /// `step 3 `(drive t a b)`` (its id), `the step on line 7 `(drive t a b)``.
     pub(super) fn step_text(&self, i: usize) -> String {
-        format!("step {} `{}`", i + 1, self.plan[i].text())
+        self.plan[i].described()
     }
 
     /// "the start of step 3 `(drive t a b)`", "the timed initial literal at 10.0".
@@ -37,9 +38,9 @@ impl<'a, 'db> Run<'a, 'db> {
     /// "the start of step 3", "the timed initial literal at 10.0".
     pub(super) fn actor_short(&self, a: Actor) -> String {
         match a {
-            Actor::Start(i) => format!("the start of step {}", i + 1),
-            Actor::End(i) => format!("the end of step {}", i + 1),
-            Actor::Instant(i) => format!("step {}", i + 1),
+            Actor::Start(i) => format!("the start of {}", self.plan[i].label()),
+            Actor::End(i) => format!("the end of {}", self.plan[i].label()),
+            Actor::Instant(i) => self.plan[i].label(),
             Actor::Til(_) => self.actor_text(a),
         }
     }
@@ -128,8 +129,8 @@ impl<'a, 'db> Run<'a, 'db> {
                     }
                     let mover = match ch.actor.step() {
                         Some(i) => format!(
-                            ", or move step {} so that it does not {} it before {}",
-                            i + 1,
+                            ", or move {} so that it does not {} it before {}",
+                            self.plan[i].label(),
                             if ch.added { "add" } else { "delete" },
                             fmt_num(when)
                         ),

@@ -179,7 +179,7 @@ pub(super) fn ground_step<'db>(
     options: &Options,
     out: &mut Vec<Failure<'db>>,
 ) -> Option<Step<'db>> {
-    let n = i + 1;
+    let step = s.described();
     let key = normalize(&s.name, options.lenient);
     let found = model.actions.get(&key).copied().or_else(|| {
         options
@@ -192,15 +192,12 @@ pub(super) fn ground_step<'db>(
         let mut f = Failure::new(
             codes::UNKNOWN_ACTION_IN_PLAN,
             s.name_span,
-            format!("step {n} `{}`: the domain has no action `{}`", s.text(), s.name),
+            format!("{step}: the domain has no action `{}`", s.name),
         )
         .at_step(i);
         if let Some(task) = dom.tasks.get(key.as_str()) {
-            f.message = format!(
-                "step {n} `{}`: `{}` is a task, not an action; a temporal plan lists actions only",
-                s.text(),
-                s.name
-            );
+            f.message =
+                format!("{step}: `{}` is a task, not an action; a temporal plan lists actions only", s.name);
             f = f.model(task.loc, "the task is declared here");
         } else if let Some(best) = suggest(&key, model.actions.keys().map(String::as_str)) {
             f = f.hint(format!("did you mean `{best}`?")).edit(s.name_span, best);
@@ -216,8 +213,7 @@ pub(super) fn ground_step<'db>(
                 codes::STEP_ARITY,
                 s.span,
                 format!(
-                    "step {n} `{}` gives `{}` {} argument{}, but it takes {} ({})",
-                    s.text(),
+                    "{step} gives `{}` {} argument{}, but it takes {} ({})",
                     action.name.text,
                     s.args.len(),
                     if s.args.len() == 1 { "" } else { "s" },
@@ -252,10 +248,7 @@ pub(super) fn ground_step<'db>(
             let mut f = Failure::new(
                 codes::UNKNOWN_OBJECT_IN_PLAN,
                 span,
-                format!(
-                    "step {n} `{}`: `{arg}` is not an object of the problem or a constant of the domain",
-                    s.text()
-                ),
+                format!("{step}: `{arg}` is not an object of the problem or a constant of the domain"),
             )
             .at_step(i);
             if let Some(best) = suggest(&akey, names.into_iter()) {
@@ -274,8 +267,7 @@ pub(super) fn ground_step<'db>(
                 codes::STEP_TYPE_MISMATCH,
                 span,
                 format!(
-                    "step {n} `{}`: `{arg}` is of type `{declared}`, but parameter `{}` of `{}` has type `{}`",
-                    s.text(),
+                    "{step}: `{arg}` is of type `{declared}`, but parameter `{}` of `{}` has type `{}`",
                     param.name.text,
                     action.name.text,
                     wanted.join(" or ")
@@ -294,13 +286,13 @@ pub(super) fn ground_step<'db>(
     }
     let timing = |message: String| Failure::new(codes::INVALID_STEP_TIMING, s.span, message).at_step(i);
     if !time.is_finite() || time < 0.0 {
-        out.push(timing(format!("step {n} `{}` starts at {time}: a time is a number, 0 or more", s.text())));
+        out.push(timing(format!("{step} starts at {time}: a time is a number, 0 or more")));
         ok = false;
     }
     let duration = match (action.kind, s.duration) {
         (ActionKind::Durative, None) => {
             out.push(
-                timing(format!("step {n} `{}` is a durative action without a duration", s.text()))
+                timing(format!("{step} is a durative action without a duration"))
                     .model(decl, "a durative action")
                     .hint(format!("give its duration after it: `{time:.3}: {} [d]`", s.text())),
             );
@@ -308,10 +300,7 @@ pub(super) fn ground_step<'db>(
             None
         }
         (ActionKind::Durative, Some(d)) if !d.is_finite() || d < 0.0 => {
-            out.push(timing(format!(
-                "step {n} `{}` has the duration {d}: a duration is a number, 0 or more",
-                s.text()
-            )));
+            out.push(timing(format!("{step} has the duration {d}: a duration is a number, 0 or more")));
             ok = false;
             None
         }
@@ -320,11 +309,7 @@ pub(super) fn ground_step<'db>(
             let mut f = Failure::new(
                 codes::DURATION_IGNORED,
                 s.duration_span.unwrap_or(s.span),
-                format!(
-                    "step {n} `{}` is an instantaneous action: its duration {} is ignored",
-                    s.text(),
-                    fmt_num(d)
-                ),
+                format!("{step} is an instantaneous action: its duration {} is ignored", fmt_num(d)),
             )
             .at_step(i)
             .model(decl, "an `:action`, not a `:durative-action`")

@@ -160,19 +160,19 @@ impl<'a, 'db> Run<'a, 'db> {
         let new_start = self.steps[i].time + (new_event - m.time);
         let whom = match anchor.actor {
             Actor::Til(_) => "the timed initial literal".to_string(),
-            a => format!("step {}", a.step().map_or(0, |j| j + 1)),
+            a => a.step().map_or_else(|| "the step".to_string(), |j| self.plan[j].label()),
         };
         let hint = match m.actor {
             Actor::End(_) => format!(
-                "separate them by at least the tolerance ({tol}): step {} must end at {} or later, {} after {whom}; start it at {}",
-                i + 1,
+                "separate them by at least the tolerance ({tol}): {} must end at {} or later, {} after {whom}; start it at {}",
+                self.plan[i].label(),
                 fmt_num(new_event),
                 tol,
                 self.edit_time(new_start)
             ),
             _ => format!(
-                "separate them by at least the tolerance ({tol}): start step {} at {} or later",
-                i + 1,
+                "separate them by at least the tolerance ({tol}): start {} at {} or later",
+                self.plan[i].label(),
                 self.edit_time(new_start)
             ),
         };
@@ -256,8 +256,10 @@ impl<'a, 'db> Run<'a, 'db> {
         if same_step {
             let i = moved.actor.step().unwrap_or(0);
             let d = self.options.tolerance;
-            let mut f = f
-                .hint(format!("its start and end interfere: give step {} a duration of at least {d}", i + 1));
+            let mut f = f.hint(format!(
+                "its start and end interfere: give {} a duration of at least {d}",
+                self.plan[i].label()
+            ));
             if let Some(span) = self.plan[i].duration_span {
                 f = f.edit(span, format!("[{}]", self.edit_time(d)));
             }

@@ -26,14 +26,18 @@ const PROBLEM: &str = "(define (problem p) (:domain lights)
 /// Steps from `[time:] (name args…) [[duration]]` lines, without spans.
 fn steps(plan: &str) -> Vec<TimedStep> {
     plan.lines()
-        .filter(|l| l.contains('('))
-        .map(|l| {
+        .enumerate()
+        .filter(|(_, l)| l.contains('('))
+        .map(|(k, l)| {
             let (head, rest) = l.split_once('(').expect("a step");
             let (call, tail) = rest.split_once(')').expect("a closed step");
             let words: Vec<&str> = call.split_whitespace().collect();
             let time = head.trim().trim_end_matches(':').trim().parse().ok();
             let duration = tail.trim().trim_start_matches('[').trim_end_matches(']').parse().ok();
-            TimedStep::new(words[0], &words[1..], time, duration, Default::default())
+            TimedStep {
+                line: k + 1,
+                ..TimedStep::new(words[0], &words[1..], time, duration, Default::default())
+            }
         })
         .collect()
 }
@@ -69,7 +73,7 @@ fn timed_initial_literals_happen_at_their_time_until_the_plan_ends() {
     assert_eq!(
         failures,
         [
-            "E0416 step 1 `(light r1)` runs from 9.0 to 11.0, but its `over all` condition `(open r1)` is false from 10.0: deleted at 10.0 by the timed initial literal at 10.0"
+            "E0416 the step on line 1 `(light r1)` runs from 9.0 to 11.0, but its `over all` condition `(open r1)` is false from 10.0: deleted at 10.0 by the timed initial literal at 10.0"
         ]
     );
     // The literal at 20 opens r1 again.
@@ -84,7 +88,7 @@ fn culprits_are_named() {
     assert_eq!(
         failures,
         [
-            "E0415 step 2 `(close r2)` at 2.0: precondition `(open r2)` is false: deleted at 1.0 by step 1 `(close r2)`"
+            "E0415 the step on line 2 `(close r2)` at 2.0: precondition `(open r2)` is false: deleted at 1.0 by the step on line 1 `(close r2)`"
         ]
     );
     let (_, _, failures) = check("");
@@ -98,9 +102,29 @@ fn culprits_are_named() {
     assert_eq!(
         failures,
         [
-            "E0415 step 2 `(light r1)` at 3.0: `at start` condition `(lit r1)` is true: added at 2.0 by the end of step 1 `(light r1)`"
+            "E0415 the step on line 2 `(light r1)` at 3.0: `at start` condition `(lit r1)` is true: added at 2.0 by the end of the step on line 1 `(light r1)`"
         ]
     );
+}
+
+/// Steps are named by their id in the file (hierarchical and JSON plans),
+/// else by their line (VAL plans), never by their index in the list.
+#[test]
+fn steps_are_named_by_their_id_or_else_their_line() {
+    let mut host = AnalysisHost::new();
+    host.set_file_text("m/domain.pddl", DOMAIN);
+    let p = host.set_file_text("m/problem.pddl", PROBLEM);
+    let db = host.db();
+    let mut plan = steps("(close r2)\n(close r2)");
+    let failure = |plan: &[TimedStep]| {
+        let report = validate_temporal(db, file_units(db, p)[0], plan, &Options::default());
+        report.failures.iter().map(|f| f.message.clone()).collect::<Vec<_>>()
+    };
+    let by_line = "the step on line 2 `(close r2)` at 2.0: precondition `(open r2)` is false: deleted at 1.0 by the step on line 1 `(close r2)`";
+    assert_eq!(failure(&plan), [by_line]);
+    (plan[0].id, plan[1].id) = (Some(0), Some(7));
+    let by_id = "step 7 `(close r2)` at 2.0: precondition `(open r2)` is false: deleted at 1.0 by step 0 `(close r2)`";
+    assert_eq!(failure(&plan), [by_id]);
 }
 
 #[test]
@@ -125,7 +149,7 @@ fn mutual_exclusion_within_a_happening() {
     assert_eq!(
         failures,
         [
-            "E0418 step 2 `(all-off)` at 0.0 interferes with the start of step 1 `(light r1)` at 0.0: step 2 deletes `(lit r1)`, which the start of step 1 reads"
+            "E0418 the step on line 2 `(all-off)` at 0.0 interferes with the start of the step on line 1 `(light r1)` at 0.0: the step on line 2 deletes `(lit r1)`, which the start of the step on line 1 reads"
         ]
     );
     // A zero duration puts a step's start and end in one happening.
@@ -133,7 +157,9 @@ fn mutual_exclusion_within_a_happening() {
     assert_eq!(failures.len(), 1, "{failures:?}");
     assert!(failures[0].starts_with("E0418"), "{failures:?}");
     assert!(
-        failures[0].contains("the start of step 2 adds `(busy)`, which the end of step 2 deletes"),
+        failures[0].contains(
+            "the start of the step on line 2 adds `(busy)`, which the end of the step on line 2 deletes"
+        ),
         "{failures:?}"
     );
 }
@@ -145,7 +171,7 @@ fn duration_inequalities_use_the_tolerance() {
     assert_eq!(
         failures,
         [
-            "E0417 step 2 `(work r1)` lasts 6.0, but its duration constraint `(<= ?duration 5)` requires at most 5.0"
+            "E0417 the step on line 2 `(work r1)` lasts 6.0, but its duration constraint `(<= ?duration 5)` requires at most 5.0"
         ]
     );
     assert!(!check("0: (light r1) [2.02]").0);
