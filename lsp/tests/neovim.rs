@@ -89,7 +89,7 @@ fn neovim_with_the_shipped_config() {
             "diagnostic 3:27-3:32 W0201 predicate `prêt` is never used",
             "diagnostic 7:29-7:33 E0102 undefined predicate `😀`",
             "open problem.plan: filetype hipop-plan, clients hipop at plan",
-            "plan 2:0-2:34 E0419 the goal is not reached at the end of the plan (10.01): `(at r dock)` is false: deleted at 5.01 by the start of step 2 `(drive r dock home)`",
+            "plan 2:0-2:34 E0419 the goal is not reached at the end of the plan (10.01): `(at r dock)` is false: deleted at 5.01 by the start of the step on line 3 `(drive r dock home)`",
             &format!("open problem.pddl: filetype pddl, clients hipop at {scratch_name}"),
             "problem before: 0 diagnostics",
             "problem after 4:10-4:14 E0102 undefined predicate `held`",

@@ -6,7 +6,8 @@
 ; reaches the goal `(not p0)`. The planner takes the deletion as a support
 ; of `(not (p0))` and returns `0.000: (a0) [1.000]`, which the validator rejects:
 ;   E0419 goal-not-reached: the goal is not reached at the end of the plan
-;   (1.0): `(p0)` is true: added at 1.0 by the end of step 1 `(a0)`
+;   (1.0): `(p0)` is true: added at 1.0 by the end of the step on line 1
+;   `(a0)`
 ; (A deletion at a time point where the same step adds the atom has no
 ; effect: it should neither support `(not p)` nor threaten `p`.)
 (define (domain d)

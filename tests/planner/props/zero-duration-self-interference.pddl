@@ -6,9 +6,10 @@
 ; `p2` and its end deletes it, a mutex (VAL and the validator reject every
 ; plan with `a0`, so there is no plan for the goal `(not (p0))`). The
 ; planner returns `0.000: (a0) [0.000]`, which the validator rejects:
-;   E0418 mutex-happenings: step 1 `(a0)`, ending at 0.0 interferes with the
-;   start of step 1 `(a0)` at 0.0: the start of step 1 adds `(p2)`, which the
-;   end of step 1 deletes
+;   E0418 mutex-happenings: the step on line 1 `(a0)`, ending at 0.0
+;   interferes with the start of the step on line 1 `(a0)` at 0.0: the start
+;   of the step on line 1 adds `(p2)`, which the end of the step on line 1
+;   deletes
 ; (Either refuse durative actions of duration 0 (E0501), or treat a step's
 ; own start and end as interfering events when they coincide.)
 (define (domain d)
