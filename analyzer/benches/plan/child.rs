@@ -1,0 +1,150 @@
+//! The child process: plans one problem with one configuration, validates
+//! the plan, and prints the run as one JSON line.
+
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+use hipop_analyzer::planner::{Config, PlannerLimits, Status};
+use hipop_analyzer::validate::Options;
+use hipop_analyzer::{AnalysisHost, Diagnostic, Severity};
+use serde_json::json;
+
+use super::*;
+
+/// Peak resident memory of this process, in KiB.
+pub(crate) fn vm_hwm(pid: Option<u32>) -> Option<u64> {
+    let path = match pid {
+        Some(p) => format!("/proc/{p}/status"),
+        None => "/proc/self/status".to_string(),
+    };
+    let status = std::fs::read_to_string(path).ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// The first error of a validation, located in the plan when it is there.
+pub(crate) fn first_error(
+    diagnostics: &[Diagnostic],
+    plan_file: hipop_analyzer::SourceFile,
+    text: &str,
+) -> Option<String> {
+    let d = diagnostics.iter().find(|d| d.severity == Severity::Error)?;
+    let at = if d.file == plan_file {
+        let offset = usize::from(d.range.start()).min(text.len());
+        format!(" (plan line {})", text[..offset].matches('\n').count() + 1)
+    } else {
+        String::new()
+    };
+    Some(format!("{} {}{at}", d.code.id, d.message))
+}
+
+/// `--one DOMAIN PROBLEM CONFIG TIME_LIMIT PLAN_PREFIX`: plans, validates,
+/// writes the plans beside PLAN_PREFIX and prints one JSON line.
+pub(crate) fn one(raw: &[String]) -> ExitCode {
+    let [domain, problem, config, limit, prefix] = raw else {
+        eprintln!("--one DOMAIN PROBLEM CONFIG TIME_LIMIT PLAN_PREFIX");
+        return ExitCode::from(2);
+    };
+    let config = Config::parse(config).expect("the parent checked the configuration");
+    let limit: f64 = limit.parse().expect("the parent checked the limit");
+    let limits = PlannerLimits {
+        time: Some(Duration::from_secs_f64(limit)),
+        memory_in_use: Some(hipop_analyzer::alloc::in_use),
+        ..PlannerLimits::default()
+    };
+    let read = |p: &str| std::fs::read_to_string(p).unwrap_or_else(|e| panic!("cannot read {p}: {e}"));
+    let mut host = AnalysisHost::new();
+    host.set_file_text(domain, read(domain));
+    let pf = host.set_file_text(problem, read(problem));
+    let start = Instant::now();
+    let result = host
+        .analysis()
+        .run_planner(pf, &config, &limits, &|| false, &mut |_| {})
+        .expect("nothing cancels the planner here")
+        .expect("the problem file has a problem");
+    let wall = start.elapsed().as_secs_f64();
+    let s = &result.stats;
+    let mut out = json!({
+        "wall": wall,
+        "search": s.elapsed.as_secs_f64(),
+        "expanded": s.expanded,
+        "generated": s.generated,
+        "peak_open": s.peak_open,
+        "operators": s.operators,
+        "methods": s.methods,
+    });
+    let first_diag = |code: &str| {
+        result
+            .diagnostics
+            .iter()
+            .find(|d| d.code.id == code)
+            .or(result.diagnostics.first())
+            .map(|d| format!("{} {}", d.code.id, d.message))
+            .unwrap_or_default()
+    };
+    let (status, detail) = match &result.status {
+        Status::Solved => ("solved", String::new()),
+        Status::NoPlan => ("no-plan", first_diag("E0502")),
+        Status::Limit(k) => ("limit", k.as_str().to_string()),
+        Status::Refused => ("refused", first_diag("E0501")),
+    };
+    out["status"] = json!(status);
+    out["detail"] = json!(detail);
+    // Why the search stopped where it did: the first flaw of its best partial plan.
+    let flaw = result.diagnostics.iter().find(|d| matches!(d.code.id, "I0504" | "I0505" | "I0506"));
+    out["flaw"] = json!(flaw.map(|d| format!("{} {}", d.code.id, d.message)));
+    if let Some(plan) = &result.plan {
+        let header = format!("hipop plan bench: {} of {}, {}", plan.problem, plan.domain, config.name());
+        out["makespan"] = json!(plan.makespan);
+        out["length"] = json!(plan.primitive().count());
+        out["abstract"] = json!(plan.steps.len() - plan.primitive().count());
+        let mut texts = vec![("val", "plan", plan.to_val(&header))];
+        if plan.is_hierarchical() {
+            texts.push(("hier", "hier.plan", plan.to_hierarchical(&header)));
+        }
+        let start = Instant::now();
+        for (key, ext, text) in texts {
+            let _ = std::fs::write(format!("{prefix}.{ext}"), &text);
+            let f = host.set_file_text(&format!("bench.{ext}"), text.as_str());
+            // The first tolerance at which the plan is not valid decides.
+            let checks = TOLERANCES.map(|tolerance| {
+                let v =
+                    host.analysis().validate_plan(f, None, pf, &Options { tolerance, ..Options::default() });
+                (tolerance, v)
+            });
+            let failed = checks.iter().position(|(_, v)| {
+                !matches!(v, Ok(Some(v)) if v.valid && v.checked && v.diagnostics.iter().all(|d| d.code.id != "W0411"))
+            });
+            let (tolerance, v) = match failed {
+                Some(i) => checks[i].clone(),
+                None => checks[0].clone(),
+            };
+            let check = match v {
+                Ok(Some(v)) => {
+                    // The plans are written with every dependent happening
+                    // ε apart: one closer (W0411) is a planner bug too.
+                    let close = v.diagnostics.iter().find(|d| d.code.id == "W0411");
+                    let ok = v.valid && v.checked && close.is_none();
+                    json!({
+                        "valid": ok,
+                        "error": if ok {
+                            None
+                        } else if let Some(d) = close.filter(|_| v.valid && v.checked) {
+                            Some(format!("-t {tolerance}: W0411 {}", d.message))
+                        } else {
+                            let e = first_error(&v.diagnostics, f, &text).unwrap_or_else(|| "not checked".into());
+                            Some(format!("-t {tolerance}: {e}"))
+                        },
+                        "makespan": v.makespan,
+                    })
+                }
+                _ => json!({"valid": false, "error": "the validator did not run"}),
+            };
+            out[key] = check;
+        }
+        out["validate"] = json!(start.elapsed().as_secs_f64());
+    }
+    out["rss_kb"] = json!(vm_hwm(None));
+    println!("{out}");
+    ExitCode::SUCCESS
+}
