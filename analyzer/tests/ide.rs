@@ -166,6 +166,25 @@ fn hover_on_a_plan_step_shows_its_action_time_window_and_verdict() {
     assert_eq!(analysis.hover(*plan, at(text, "first drive", 0, 0)).unwrap(), None);
 }
 
+/// A sequential plan (no times, no ids): a step is placed by its order in the
+/// file, in words that do not read as a step's name.
+#[test]
+fn hover_on_a_sequential_step_gives_its_place_in_the_order() {
+    let (host, _) = workspace(&SHUTTLE[..2]);
+    let mut host = host;
+    let text = "(drive r home dock)\n(drive r dock yard)\n(honk r)\n";
+    let plan = host.set_file_text("w/problem.plan", text);
+    let analysis = host.analysis();
+    let hover = |needle: &str| analysis.hover(plan, at(text, needle, 0, 1)).unwrap().unwrap().markdown;
+    assert!(
+        hover("(drive r home").contains("untimed (sequential: 1st in the plan's order)"),
+        "{}",
+        hover("(drive r home")
+    );
+    assert!(hover("(drive r dock").contains("untimed (sequential: 2nd in the plan's order)"));
+    assert!(hover("(honk").contains("untimed (sequential: 3rd in the plan's order)"));
+}
+
 /// A JSON plan: the step's flexibility; a plan without a problem beside it is
 /// not validated, and says so.
 #[test]

@@ -59,12 +59,23 @@ fn time(v: f64) -> String {
     format!("{v:.3}")
 }
 
+/// `1st`, `2nd`, `3rd`, `4th`, …, `11th`, `21st`.
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (1, r) if r != 11 => "st",
+        (2, r) if r != 12 => "nd",
+        (3, r) if r != 13 => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
 /// When the step happens, in words.
 fn time_window(step: &Step, index: usize) -> String {
     let Some(start) = &step.start else {
         return match step.id {
             Some(id) => format!("untimed (step {})", id.value),
-            None => format!("untimed (step {} of the sequence)", index + 1),
+            None => format!("untimed (sequential: {} in the plan's order)", ordinal(index + 1)),
         };
     };
     let mut out = match &step.duration {
