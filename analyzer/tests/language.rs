@@ -77,3 +77,10 @@ fn ordering_cycles_are_found_through_timed_points() {
     );
     assert_eq!(codes(&text), vec![("E0113".to_string(), "(< t1 t2)".to_string())]);
 }
+
+#[test]
+fn a_byte_order_mark_at_the_start_is_trivia() {
+    let text = "\u{feff}(define (domain d) (:predicates (p)) (:action a :parameters () :effect (p)))\n";
+    assert_eq!(hipop_analyzer::syntax::parse(text).text(), text);
+    assert_eq!(codes(text), vec![]);
+}

@@ -57,14 +57,63 @@ impl Sources {
         self.files.get(id).map(|f| f.source().as_ref()).unwrap_or("")
     }
 
-    /// 1-based line and column (in characters) of a byte offset.
+    /// 1-based line and column (in characters) of a byte offset. A
+    /// byte-order mark is not a column: editors do not show it.
     pub(crate) fn line_col(&self, id: usize, offset: usize) -> (usize, usize) {
         let starts = &self.line_starts[id];
         let line = starts.partition_point(|&s| s <= offset).saturating_sub(1);
         let text = self.text(id);
         let offset = offset.min(text.len());
-        let col = text.get(starts[line]..offset).map_or(0, |s| s.chars().count());
+        let from = if line == 0 { bom_len(text).min(offset) } else { starts[line] };
+        let col = text.get(from..offset).map_or(0, |s| s.chars().count());
         (line + 1, col + 1)
+    }
+}
+
+/// The length of the UTF-8 byte-order mark `text` starts with, if any.
+fn bom_len(text: &str) -> usize {
+    if text.starts_with('\u{feff}') { '\u{feff}'.len_utf8() } else { 0 }
+}
+
+/// The files as codespan-reporting reads them, with the columns of
+/// [`Sources::line_col`]: a byte-order mark does not count as a column.
+struct Columns<'s>(&'s SimpleFiles<String, std::sync::Arc<str>>);
+
+impl<'a> codespan_reporting::files::Files<'a> for Columns<'_> {
+    type FileId = usize;
+    type Name = String;
+    type Source = &'a str;
+
+    fn name(&'a self, id: usize) -> Result<String, codespan_reporting::files::Error> {
+        self.0.name(id)
+    }
+
+    fn source(&'a self, id: usize) -> Result<&'a str, codespan_reporting::files::Error> {
+        self.0.source(id)
+    }
+
+    fn line_index(&'a self, id: usize, byte_index: usize) -> Result<usize, codespan_reporting::files::Error> {
+        self.0.line_index(id, byte_index)
+    }
+
+    fn line_range(
+        &'a self,
+        id: usize,
+        line_index: usize,
+    ) -> Result<std::ops::Range<usize>, codespan_reporting::files::Error> {
+        self.0.line_range(id, line_index)
+    }
+
+    fn column_number(
+        &'a self,
+        id: usize,
+        line_index: usize,
+        byte_index: usize,
+    ) -> Result<usize, codespan_reporting::files::Error> {
+        let column = self.0.column_number(id, line_index, byte_index)?;
+        let bom = bom_len(self.0.source(id)?);
+        let bom = line_index == 0 && bom > 0 && byte_index >= bom;
+        Ok(column - usize::from(bom))
     }
 }
 
@@ -123,7 +172,7 @@ impl Rendered<'_> {
         }
         for d in self.diagnostics {
             if let Some(cs) = self.to_codespan(d) {
-                let _ = term::emit_to_write_style(out, &config, &self.sources.files, &cs);
+                let _ = term::emit_to_write_style(out, &config, &Columns(&self.sources.files), &cs);
             }
         }
     }

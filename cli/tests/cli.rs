@@ -216,6 +216,22 @@ fn non_utf8_file_is_reported_without_panic() {
     assert!(line.contains("UTF-8"), "the message says what is wrong:\n{err}");
 }
 
+/// A file that starts with a UTF-8 byte-order mark reads without error, and
+/// its columns are the editor's: the mark is not one.
+#[test]
+fn a_byte_order_mark_is_not_a_column() {
+    let file = "tests/reading/byte-order-mark.pddl";
+    let o = hipop(&["check", file, "--color", "never"]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 0, "stderr:\n{}", stderr(&o));
+    assert!(stderr(&o).contains(&format!("{file}:1:51")), "stderr:\n{}", stderr(&o));
+    let o = hipop(&["check", file, "--format", "json"]);
+    let doc: Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    let d = &doc["diagnostics"][0];
+    assert_eq!(d["code"], "W0201");
+    assert_eq!(d["location"]["start"], serde_json::json!({"line": 1, "column": 51, "offset": 53}));
+}
+
 #[test]
 fn help_succeeds() {
     let o = hipop(&["--help"]);

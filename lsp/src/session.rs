@@ -293,7 +293,7 @@ impl Session {
         self.published.remove(uri);
         let Some(doc) = self.docs.remove(uri) else { return };
         self.rebuild_open();
-        match workspace::uri_path(uri).and_then(|p| std::fs::read_to_string(p).ok()) {
+        match workspace::uri_path(uri).and_then(|p| workspace::read_text(&p)) {
             Some(text) => drop(self.host.set_file_text(&doc.key, text)),
             None => self.host.remove_file(&doc.key),
         }
@@ -308,8 +308,8 @@ impl Session {
         if self.is_open(&key) {
             return;
         }
-        match std::fs::read_to_string(&path) {
-            Ok(text) if !deleted => drop(self.host.set_file_text(&key, text)),
+        match workspace::read_text(&path) {
+            Some(text) if !deleted => drop(self.host.set_file_text(&key, text)),
             _ => self.host.remove_file(&key),
         }
         self.generation += 1;

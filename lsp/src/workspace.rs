@@ -112,11 +112,19 @@ fn read_file(path: &Path, len: u64, budget: &mut Budget, out: &mut Scan) {
     out.files.push((path.to_string_lossy().into_owned(), text));
 }
 
-/// A file's text; bytes that are not UTF-8 are replaced (the diagnostics
-/// still locate the rest).
+/// A file's text as an editor shows it: bytes that are not UTF-8 are
+/// replaced (the diagnostics still locate the rest), and a UTF-8 byte-order
+/// mark at its start is dropped. Editors read the mark as an encoding, not
+/// as a character, and send the text without it: positions in a file loaded
+/// from disk must be the editor's.
 pub(crate) fn read_text(path: &Path) -> Option<String> {
     let bytes = std::fs::read(path).ok()?;
-    Some(String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
+    let mut text =
+        String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
+    if text.starts_with('\u{feff}') {
+        text.drain(..'\u{feff}'.len_utf8());
+    }
+    Some(text)
 }
 
 #[cfg(test)]

@@ -208,6 +208,33 @@ fn a_problem_follows_its_domain() {
     client.shutdown();
 }
 
+/// A domain that starts with a UTF-8 byte-order mark: loaded from disk, its
+/// positions are those the editor shows (without the mark); opened with the
+/// mark in its text, it reads without error and the mark is one character.
+#[test]
+fn a_byte_order_mark_is_not_a_character_of_the_file() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("bom"), json!({}));
+    let (domain_uri, domain) = read("bom/domain.pddl");
+    assert!(domain.starts_with('\u{feff}'), "the fixture starts with a byte-order mark");
+    let (problem_uri, problem) = read("bom/problem.pddl");
+    client.open(&problem_uri, &problem);
+    assert_eq!(client.diagnostics(&problem_uri, Some(1)), Vec::<Value>::new());
+    // `ready` in `(:init (ready))`, declared on the domain's first line at
+    // character 35 as the editor counts (36 with the mark).
+    let definition = client.request("textDocument/definition", at(&problem_uri, 1, 11));
+    assert_eq!(definition["uri"], domain_uri);
+    assert_eq!(definition["range"], range(0, 35, 0, 40));
+
+    client.open(&domain_uri, &domain);
+    assert_eq!(client.diagnostics(&domain_uri, Some(1)), Vec::<Value>::new());
+    client.change(&domain_uri, 2, range(0, 36, 0, 41), "prêt");
+    let diags = client.diagnostics(&domain_uri, Some(2));
+    assert_eq!(codes(&diags), ["W0201", "E0102"], "{diags:#?}");
+    assert_eq!(find(&diags, "W0201")["range"], range(0, 36, 0, 40));
+    client.shutdown();
+}
+
 /// A fix of the analyzer is offered as a quick fix; its related location is in another file.
 #[test]
 fn quick_fix_and_related_information() {

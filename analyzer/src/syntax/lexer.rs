@@ -36,6 +36,9 @@ fn ends_atom(b: u8) -> bool {
     CLASS[b as usize] & DELIM != 0
 }
 
+/// The UTF-8 byte-order mark, U+FEFF.
+pub const BOM: &str = "\u{feff}";
+
 /// Lexes `text` into tokens that cover every byte.
 pub fn lex(text: &str) -> Tokens {
     let mut tokens = Tokens { kinds: Vec::new(), starts: Vec::new() };
@@ -53,6 +56,14 @@ fn lex_into(text: &str, base: u32, out: &mut Tokens) {
     out.kinds.reserve(capacity);
     out.starts.reserve(capacity + 1);
     let mut i = 0;
+    // A UTF-8 byte-order mark at the start of the file (Windows editors write
+    // one) is trivia, not part of an atom: the tree keeps it, so printing gives
+    // the file back and offsets stay those of the file.
+    if base == 0 && bytes.starts_with(BOM.as_bytes()) {
+        out.kinds.push(SyntaxKind::Whitespace);
+        out.starts.push(0);
+        i = BOM.len();
+    }
     while i < bytes.len() {
         let start = i;
         let kind = match bytes[i] {
@@ -208,6 +219,29 @@ mod tests {
         {
             assert_eq!(kinds(atom), vec![(classify_atom(atom), atom)], "{atom}");
         }
+    }
+
+    #[test]
+    fn a_byte_order_mark_at_the_start_is_trivia() {
+        use SyntaxKind::*;
+        assert_eq!(
+            kinds("\u{feff}(define)"),
+            vec![(Whitespace, "\u{feff}"), (LParen, "("), (Symbol, "define"), (RParen, ")")]
+        );
+        assert_eq!(kinds("\u{feff}\n")[..2], [(Whitespace, "\u{feff}"), (Whitespace, "\n")]);
+        // Elsewhere it is an ordinary character of an atom.
+        assert_eq!(kinds("a\u{feff}b"), vec![(Symbol, "a\u{feff}b")]);
+        assert_eq!(kinds("(\u{feff}x)")[1], (Symbol, "\u{feff}x"));
+    }
+
+    #[test]
+    fn a_byte_order_mark_at_the_split_of_parallel_lexing_is_not_trivia() {
+        let mut text = String::new();
+        while text.len() < 100 << 10 {
+            // Every line starts with one: so does the second half.
+            text.push_str("\u{feff}(p a)\n");
+        }
+        assert_eq!(lex_parallel(&text), lex(&text));
     }
 
     #[test]
