@@ -84,3 +84,38 @@ fn a_byte_order_mark_at_the_start_is_trivia() {
     assert_eq!(hipop_analyzer::syntax::parse(text).text(), text);
     assert_eq!(codes(text), vec![]);
 }
+
+/// The fixtures of `tests/reading/`, by file name.
+fn reading_fixture(name: &str) -> String {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/reading").join(name);
+    std::fs::read_to_string(path).unwrap()
+}
+
+#[test]
+fn a_type_glued_to_its_dash_is_read_as_a_type() {
+    let text = reading_fixture("dash-glued-type.hddl");
+    assert_eq!(codes(&text), vec![]);
+    // The type's name, not its `-`, is what refers to the declaration.
+    let mut host = AnalysisHost::new();
+    let f = host.set_file_text("d.hddl", text.as_str());
+    let at = text.find("?r -Robot").unwrap() + 4;
+    let target = host.analysis().goto_definition(f, hipop_analyzer::TextSize::from(at as u32 + 1)).unwrap();
+    let range = target.expect("a definition").range;
+    assert_eq!(&text[usize::from(range.start())..usize::from(range.end())], "Robot");
+    assert!(
+        host.analysis().goto_definition(f, hipop_analyzer::TextSize::from(at as u32 - 1)).unwrap().is_none()
+    );
+}
+
+#[test]
+fn a_lone_dash_still_needs_a_type_and_names_before_it() {
+    let text = "(define (domain d) (:requirements :typing) (:types -Thing)\n  (:predicates (p ?x -)))\n";
+    assert_eq!(
+        codes(text),
+        vec![
+            ("E0003".to_string(), "-Thing".to_string()),
+            ("W0201".to_string(), "p".to_string()),
+            ("E0003".to_string(), "-".to_string())
+        ]
+    );
+}

@@ -181,6 +181,17 @@ test('the type after - is entity.name.type', async () => {
   await expectScopes('(:objects r1', 'robot', ['entity.name.type']);
 });
 
+test('a type glued to its dash (?x -Type, IPC 2023) is entity.name.type', async () => {
+  const [types, preds] = await tokenize('(:types Location Robot -Object)\n(:predicates (at ?r -Robot ?l - Location))');
+  const scope = (line, text) => line.find((t) => t.text === text).scopes.at(-1);
+  assert.equal(scope(types, '-'), 'punctuation.separator.type' + S);
+  assert.equal(scope(types, 'Object'), 'entity.name.type' + S);
+  assert.equal(scope(types, 'Location'), 'entity.name.type' + S);
+  assert.equal(scope(preds, '-'), 'punctuation.separator.type' + S);
+  assert.equal(scope(preds, 'Robot'), 'entity.name.type' + S);
+  assert.equal(scope(preds, 'Location'), 'entity.name.type' + S);
+});
+
 test('(:types ...) names and (either ...) members are types, either is storage.type', async () => {
   await expectScopes('(:types robot', 'robot', ['entity.name.type']);
   await expectScopes('(:types robot', 'object', ['entity.name.type']);

@@ -3,7 +3,7 @@
 use rowan::TextRange;
 
 use super::network::is_ordering_shape;
-use super::{Cx, GSexp, SyntaxKind, atom_kind, elements};
+use super::{Cx, GSexp, SyntaxKind, atom_kind, elements, glued_type};
 use crate::model::*;
 
 impl Cx {
@@ -222,6 +222,10 @@ impl Cx {
                     let ty = self.type_ref(&args[2]);
                     Gd::Sortof(t, ty, span)
                 }
+                None => Gd::And(Vec::new(), span),
+            },
+            "sortof" if args.len() == 2 && glued_type(&args[1]).is_some() => match self.term(&args[0]) {
+                Some(t) => Gd::Sortof(t, TypeRef::Named(glued_type(&args[1]).expect("checked")), span),
                 None => Gd::And(Vec::new(), span),
             },
             "always" | "sometime" | "at-most-once" | "sometime-after" | "sometime-before"

@@ -234,19 +234,21 @@ impl Cx {
         let mut i = 0;
         while i < elems.len() {
             let e = &elems[i];
-            if e.is_atom("-") {
-                let ty = match elems.get(i + 1) {
-                    Some(t) => self.type_ref(t),
-                    None => {
+            let glued = glued_type(e);
+            if e.is_atom("-") || glued.is_some() {
+                let (ty, next) = match (glued, elems.get(i + 1)) {
+                    (Some(name), _) => (TypeRef::Named(name), i + 1),
+                    (None, Some(t)) => (self.type_ref(t), i + 2),
+                    (None, None) => {
                         self.malformed(e, "expected a type after `-`");
-                        TypeRef::Implicit
+                        (TypeRef::Implicit, i + 2)
                     }
                 };
                 if pending.is_empty() {
                     self.malformed(e, "`-` must follow the names it gives a type to");
                 }
                 out.extend(pending.drain(..).map(|name| Typed { name, ty: ty.clone() }));
-                i += 2;
+                i = next;
                 continue;
             }
             match e {
@@ -304,19 +306,21 @@ impl Cx {
         let mut i = 0;
         while i < elems.len() {
             let e = &elems[i];
-            if functions && e.is_atom("-") {
-                let ty = match elems.get(i + 1) {
-                    Some(t) => self.type_ref(t),
-                    None => {
+            let glued = if functions { glued_type(e) } else { None };
+            if functions && (e.is_atom("-") || glued.is_some()) {
+                let (ty, next) = match (glued, elems.get(i + 1)) {
+                    (Some(name), _) => (TypeRef::Named(name), i + 1),
+                    (None, Some(t)) => (self.type_ref(t), i + 2),
+                    (None, None) => {
                         self.malformed(e, "expected a type after `-`");
-                        TypeRef::Implicit
+                        (TypeRef::Implicit, i + 2)
                     }
                 };
                 for sig in &mut out[untyped_from..] {
                     sig.result = ty.clone();
                 }
                 untyped_from = out.len();
-                i += 2;
+                i = next;
                 continue;
             }
             match e {
@@ -633,6 +637,19 @@ impl Cx {
             }
         }
     }
+}
+
+/// `-Type` written without a space, as IPC 2023 domains write typed lists
+/// (`?x -Location`): the type name it glues to `-`, located without the `-`.
+/// A name cannot start with `-`, so this is no other reading of the atom.
+pub(super) fn glued_type(e: &GSexp<'_>) -> Option<Name> {
+    let t = e.as_atom()?;
+    let name = t.text().strip_prefix('-')?;
+    if t.kind() != SyntaxKind::Symbol || !name.starts_with(|c: char| c.is_alphabetic()) {
+        return None;
+    }
+    let start = t.text_range().start() + TextSize::from(1);
+    Some(Name::new(name, TextRange::new(start, t.text_range().end())))
 }
 
 /// Whether a list ends with its `)` (recovery leaves unclosed lists open).
