@@ -69,6 +69,7 @@ pub mod codes {
         TYPE_CYCLE = "E0112" "type-cycle" Error "the type hierarchy has a cycle";
         ORDERING_CYCLE = "E0113" "ordering-cycle" Error "the ordering constraints of a task network have a cycle";
         MISSING_DOMAIN = "E0114" "missing-domain" Error "a problem's domain is not among the files";
+        NEGATIVE_DURATION = "E0115" "negative-duration" Error "a duration constraint whose constant value is negative or not a finite number: the action can never be applied";
 
         UNUSED = "W0201" "unused-declaration" Warning "a type, predicate, function or constant is declared but never used";
         UNKNOWN_REQUIREMENT = "W0202" "unknown-requirement" Warning "a requirement is not one hipop knows";
@@ -81,7 +82,9 @@ pub mod codes {
         UNUSED_CONFLICT = "W0302" "unused-conflict" Warning "a conflict atom that no method of the task can delete";
         TASK_WITHOUT_METHODS = "E0303" "task-without-methods" Error "a task that the model uses has no method: it can never be refined";
         UNUSED_TASK = "W0304" "unused-task" Warning "a task without methods that nothing uses";
-        DURATION_NOT_EVALUABLE = "E0305" "duration-not-evaluable" Error "a duration cannot be evaluated from the problem's numeric fluents";
+        DURATION_NOT_EVALUABLE = "E0305" "duration-not-evaluable" Error "no instance of an action has a duration in a problem: its duration cannot be evaluated from the problem's numeric fluents, or is negative";
+        DURATION_UNDEFINED = "I0306" "duration-undefined" Info "some instances of an action have no duration in a problem (a fluent without value): PDDL 2.1 makes them not applicable";
+        INVALID_DURATION_VALUE = "W0315" "invalid-duration-value" Warning "a duration computed from a problem's fluents is negative or not a finite number (a division by zero) for some instances of an action";
         NOT_A_POSITION_FAMILY = "I0307" "not-a-position-family" Info "a predicate that looks like a position fails a property of Definition 12 (with the witness)";
         MISSING_MOVE = "I0308" "missing-move" Info "pairs of positions of a family with no move action between them (Definition 14, property 4)";
         FASTER_THAN_MOVE = "W0309" "faster-than-move" Warning "an action changes position faster than the move action (Definition 14, property 5)";

@@ -119,3 +119,63 @@ fn a_lone_dash_still_needs_a_type_and_names_before_it() {
         ]
     );
 }
+
+/// `1e999`, `1e5`, `+3` are not PDDL numbers: where a number is expected they
+/// are reported as such, not read as names (which made `(= ?duration 1e999)`
+/// an `=` "between objects" and a duration inequality).
+#[test]
+fn what_starts_like_a_number_but_is_not_one_is_reported_where_a_number_is_expected() {
+    let text = "(define (domain num)
+  (:requirements :durative-actions :numeric-fluents :timed-initial-literals)
+  (:predicates (p) (q))
+  (:functions (f))
+  (:durative-action a :parameters () :duration (= ?duration 1e999)
+    :condition (at start (p)) :effect (and (at end (q)) (at end (increase (f) +3)))))
+(define (problem n) (:domain num)
+  (:init (p) (= (f) 1e5) (at 1e3 (q)) (= (f) .5))
+  (:goal (q)) (:metric minimize (* 2E1 (total-time))))
+";
+    let expected = ["1e999", "+3", "1e5", "1e3", "2E1"];
+    assert_eq!(codes(text), expected.map(|n| ("E0003".to_string(), n.to_string())).to_vec());
+    let mut host = AnalysisHost::new();
+    let f = host.set_file_text("n.pddl", text);
+    let diags = host.analysis().diagnostics(f).unwrap();
+    assert!(diags.iter().all(|d| d.message.starts_with("expected a number")), "{diags:#?}");
+}
+
+/// A constant duration that is negative or infinite: no instance of the
+/// action can be applied (E0115). Before, it passed silently.
+#[test]
+fn a_negative_or_infinite_constant_duration_is_an_error() {
+    let action = |name: &str, duration: &str| {
+        format!(
+            "  (:durative-action {name} :parameters (?r - robot) :duration {duration}
+    :condition (at start (ready ?r)) :effect (at end (done ?r)))\n"
+        )
+    };
+    let text = domain(
+        &[
+            action("a", "(= ?duration -5)"),
+            action("b", "(= ?duration (- 2 7))"),
+            action("c", "(= ?duration (/ 1 0))"),
+            action("d", "(and (>= ?duration 1) (<= ?duration -1))"),
+            action("e", "(>= -1 ?duration)"),
+            action("f", "(and (>= ?duration -1) (<= ?duration 0))"),
+            action("g", "(= ?duration 0)"),
+        ]
+        .concat(),
+    );
+    let found: Vec<(String, String)> = codes(&text).into_iter().filter(|(c, _)| c == "E0115").collect();
+    assert_eq!(
+        found,
+        [
+            "(= ?duration -5)",
+            "(= ?duration (- 2 7))",
+            "(= ?duration (/ 1 0))",
+            "(<= ?duration -1)",
+            "(>= -1 ?duration)"
+        ]
+        .map(|s| ("E0115".to_string(), s.to_string()))
+        .to_vec()
+    );
+}

@@ -300,6 +300,18 @@ fn a_meeting_window_is_placed_before_a_patrol() {
     assert!(text.contains("0 move r1 a c\n1 report r1\n2 move r1 c b\n"), "{text}");
 }
 
+/// Instances whose duration is undefined in the problem (a fluent without
+/// value) are not applicable, as in PDDL 2.1: the rover goes a → c → b, not
+/// along the road a → b that has no distance. Before, the planner refused
+/// the problem (E0501).
+#[test]
+fn instances_without_a_duration_are_not_applicable() {
+    let plan = solve_fixture("duration-undefined-for-some-moves.pddl");
+    let text = plan.to_val("t");
+    assert!(text.contains("(move r1 a c)") && text.contains("(move r1 c b)"), "{text}");
+    assert!(!text.contains("(move r1 a b)"), "{text}");
+}
+
 /// `:htn` parameters (every binding is a start) and method `:constraints`
 /// (they restrict the method's instances), as IPC 2020 domains use them.
 #[test]

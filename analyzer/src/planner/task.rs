@@ -516,7 +516,11 @@ pub fn compile<'db>(
                     ActionKind::Action => Some(0.0),
                     _ => o.duration,
                 };
-                if op.duration.is_none() {
+                if o.no_duration {
+                    // Undefined in this problem (a fluent without value): PDDL
+                    // 2.1 never applies the instance.
+                    op.dead = true;
+                } else if op.duration.is_none() {
                     let span = a.duration.as_ref().map_or(a.name.span, gd_span);
                     c.unsupported(
                         item,
@@ -537,7 +541,9 @@ pub fn compile<'db>(
                     c.effs(item, e, &b, None, &mut op.effs);
                 }
                 op.duration = o.duration;
-                if op.duration.is_none()
+                if o.no_duration {
+                    op.dead = true;
+                } else if op.duration.is_none()
                     && let Some(d) = &t.duration
                     && !matches!(d, Gd::Compare(CmpOp::Eq, ..))
                 {

@@ -150,6 +150,18 @@ pub fn classify_atom(atom: &str) -> SyntaxKind {
     }
 }
 
+/// Whether an atom that is not a [`SyntaxKind::Number`] starts like one
+/// (`1e5`, `1e999`, `+3`, `1.2.3`, `2x`): where a number is expected, it is a
+/// number PDDL does not have, not a name (names start with a letter).
+pub fn looks_like_a_number(atom: &str) -> bool {
+    if is_number(atom) {
+        return false;
+    }
+    let unsigned = atom.strip_prefix(['-', '+']).unwrap_or(atom);
+    let unsigned = unsigned.strip_prefix('.').unwrap_or(unsigned);
+    unsigned.starts_with(|c: char| c.is_ascii_digit())
+}
+
 fn is_number(atom: &str) -> bool {
     let digits = atom.strip_prefix('-').unwrap_or(atom);
     let mut seen_digit = false;
@@ -242,6 +254,17 @@ mod tests {
             text.push_str("\u{feff}(p a)\n");
         }
         assert_eq!(lex_parallel(&text), lex(&text));
+    }
+
+    #[test]
+    fn atoms_that_look_like_numbers_but_are_not() {
+        for atom in ["1e5", "1e999", "1E-3", "+3", "+.5", "1.2.3", "2x", "-1e2", ".5e1"] {
+            assert_eq!(classify_atom(atom), SyntaxKind::Symbol, "{atom}");
+            assert!(looks_like_a_number(atom), "{atom}");
+        }
+        for atom in ["12", "-3.5", ".5", "5.", "x1", "-", "+", "-x", "e5", "#t", "?x", "-.", "."] {
+            assert!(!looks_like_a_number(atom), "{atom}");
+        }
     }
 
     #[test]

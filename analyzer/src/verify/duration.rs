@@ -1,14 +1,20 @@
 //! Durations of ground operators, evaluated from the problem's numeric fluents
 //! (`(= ?duration (/ (distance ?from ?to) (speed ?r)))` with
-//! `(= (distance a b) 30.98)` in `:init`), and the lint `E0305` for those that
+//! `(= (distance a b) 30.98)` in `:init`), and the lints for those that
 //! cannot be.
 //!
 //! A fluent that some effect changes (`(decrease (fuel ?a) …)`) has no single
 //! value: a duration that reads one is not a constant of the instance, so it
 //! is left unknown, without a diagnostic (its value in `:init` may even be
 //! missing, to be assigned later). Only what is fixed for the whole problem is
-//! held against the problem: a missing value of a fluent no effect changes, a
-//! division by zero, a term that is not a number.
+//! held against the problem.
+//!
+//! In PDDL 2.1 an instance whose duration is undefined (it reads a fluent
+//! without value) is simply not applicable: problems give `turn-time` only
+//! between the directions that matter. That is a note (`I0306`). A duration
+//! that is negative or not a finite number (a division by zero) for some
+//! instances is a warning (`W0315`). Only an action none of whose instances
+//! has a duration is an error (`E0305`): it can never be in a plan.
 
 use rowan::TextRange;
 
@@ -51,6 +57,17 @@ pub(crate) enum CExpr {
     Bad(String, TextRange),
 }
 
+impl CExpr {
+    /// Where the expression is written, when it says.
+    fn span(&self) -> Option<TextRange> {
+        match self {
+            CExpr::Num(_) => None,
+            CExpr::Fluent { span, .. } | CExpr::Op(_, _, span) | CExpr::Bad(_, span) => Some(*span),
+            CExpr::Neg(x) => x.span(),
+        }
+    }
+}
+
 /// An evaluated value: known, or depending on the state (a fluent some effect changes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Val {
@@ -65,6 +82,10 @@ pub(crate) struct Failure<'db> {
     pub why: String,
     /// The `:init` fact involved (the fluent set to 0 that a division divides by).
     pub fact: Option<Loc<'db>>,
+    /// The duration reads a fluent without value: it is undefined, and the
+    /// instance not applicable. Otherwise it is invalid (negative, a
+    /// division by zero, not a number).
+    pub undefined: bool,
 }
 
 pub(crate) struct Compiler<'a, 'db> {
@@ -162,6 +183,7 @@ impl<'db> Env<'_, 'db> {
                         span: *span,
                         why: format!("`{}` has no value in `:init`", self.show_fluent(*f, &fargs)),
                         fact: None,
+                        undefined: true,
                     }),
                 }
             }
@@ -203,10 +225,27 @@ impl<'db> Env<'_, 'db> {
         }
     }
 
+    /// The duration `e` gives an instance: an error when it is undefined,
+    /// negative or not a finite number. `at`: where to report a failure the
+    /// expression has no span for (a constant).
+    pub fn duration(&self, e: &CExpr, args: &[ObjId], at: TextRange) -> Result<Val, Failure<'db>> {
+        match self.eval(e, args)? {
+            Val::Known(v) if v < 0.0 || !v.is_finite() => Err(Failure {
+                span: e.span().unwrap_or(at),
+                why: format!("`{}` is {v}: a duration cannot be negative", self.show(e, args)),
+                fact: None,
+                undefined: false,
+            }),
+            v => Ok(v),
+        }
+    }
+
     pub fn eval(&self, e: &CExpr, args: &[ObjId]) -> Result<Val, Failure<'db>> {
         match e {
             CExpr::Num(v) => Ok(Val::Known(*v)),
-            CExpr::Bad(why, span) => Err(Failure { span: *span, why: why.clone(), fact: None }),
+            CExpr::Bad(why, span) => {
+                Err(Failure { span: *span, why: why.clone(), fact: None, undefined: false })
+            }
             CExpr::Fluent { func, args: fargs, dynamic, span } => {
                 let fargs = fargs.iter().map(|a| self.term(a, args)).collect::<Result<Objs, _>>()?;
                 match (self.init.fluent(*func, &fargs), dynamic) {
@@ -217,6 +256,7 @@ impl<'db> Env<'_, 'db> {
                         span: *span,
                         why: format!("`{}` has no value in `:init`", self.show_fluent(*func, &fargs)),
                         fact: None,
+                        undefined: true,
                     }),
                 }
             }
@@ -249,6 +289,7 @@ impl<'db> Env<'_, 'db> {
                                     self.show(x, args)
                                 ),
                                 fact,
+                                undefined: false,
                             });
                         }
                         (Some(Val::Dynamic), _) | (Some(_), Val::Dynamic) => Val::Dynamic,
@@ -265,6 +306,7 @@ impl<'db> Env<'_, 'db> {
                         span: *span,
                         why: format!("`{}` is too large to be a duration", self.show(e, args)),
                         fact: None,
+                        undefined: false,
                     }),
                     Some(v) => Ok(v),
                     None => Ok(Val::Known(0.0)),
@@ -274,10 +316,22 @@ impl<'db> Env<'_, 'db> {
     }
 }
 
+/// What is wrong with the durations of one operator in a problem.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum IssueKind {
+    /// No instance has a duration (`E0305`).
+    NoInstance,
+    /// Some instances have an undefined duration (`I0306`).
+    Undefined,
+    /// Some instances have a negative or non-finite duration (`W0315`).
+    Invalid,
+}
+
 /// The durations of one operator that could not be evaluated: the first
 /// instance that failed, and how many did.
 #[derive(Debug, Clone, PartialEq, salsa::SalsaValue)]
 pub struct DurationIssue<'db> {
+    pub kind: IssueKind,
     /// Where in the operator's duration: the fluent without a value, the division.
     pub loc: Loc<'db>,
     /// The operator's name.
@@ -287,11 +341,59 @@ pub struct DurationIssue<'db> {
     pub why: String,
     /// The `:init` fact involved, if any (a divisor set to 0).
     pub fact: Option<Loc<'db>>,
-    /// How many instances failed.
+    /// How many instances failed this way.
     pub count: usize,
+    /// How many instances the operator has.
+    pub total: usize,
 }
 
-/// `E0305`: durations that cannot be evaluated from the problem's fluents.
+/// The instances of one operator whose duration failed, by kind of failure:
+/// gathered while grounding, turned into [`DurationIssue`]s at the end.
+#[derive(Debug, Default)]
+pub(crate) struct Tally<'db> {
+    undefined: Option<DurationIssue<'db>>,
+    invalid: Option<DurationIssue<'db>>,
+    total: usize,
+}
+
+impl<'db> Tally<'db> {
+    /// Counts an instance; `failed` when its duration failed, with a way to
+    /// build the issue of the first failure.
+    pub fn instance(&mut self, failed: Option<(Failure<'db>, &dyn Fn(Failure<'db>) -> DurationIssue<'db>)>) {
+        self.total += 1;
+        let Some((f, issue)) = failed else { return };
+        let slot = if f.undefined { &mut self.undefined } else { &mut self.invalid };
+        match slot {
+            Some(i) => i.count += 1,
+            None => *slot = Some(issue(f)),
+        }
+    }
+
+    /// The issues: one `NoInstance` when no instance has a duration (on the
+    /// first invalid one, which says more than a missing value), otherwise
+    /// one per kind of failure.
+    pub fn issues(self) -> Vec<DurationIssue<'db>> {
+        let total = self.total;
+        let failed =
+            self.undefined.as_ref().map_or(0, |i| i.count) + self.invalid.as_ref().map_or(0, |i| i.count);
+        let with_total = |mut i: DurationIssue<'db>, kind| {
+            i.kind = kind;
+            i.total = total;
+            i
+        };
+        if failed > 0 && failed == total {
+            let mut first = self.invalid.or(self.undefined).expect("some instance failed");
+            first.count = failed;
+            return vec![with_total(first, IssueKind::NoInstance)];
+        }
+        let undefined = self.undefined.map(|i| with_total(i, IssueKind::Undefined));
+        let invalid = self.invalid.map(|i| with_total(i, IssueKind::Invalid));
+        undefined.into_iter().chain(invalid).collect()
+    }
+}
+
+/// `E0305`, `I0306`, `W0315`: durations that cannot be evaluated from the
+/// problem's fluents, or that are negative.
 pub fn duration_lints<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Vec<Lint<'db>> {
     // Grounding is only needed when some duration depends on the problem (or
     // cannot be evaluated at all): constant ones (`(= ?duration 10)`, most
@@ -307,28 +409,70 @@ pub fn duration_lints<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Vec<Lint<'db>
     }
     let g: &Ground<'db> = ground(db, problem);
     let problem_name = problem.name(db).clone().unwrap_or_default();
+    let init = g.init.keyword_loc(db);
     g.duration_issues
         .iter()
         .map(|d| {
-            let mut message =
-                format!("duration of `{}` cannot be evaluated for `{}`: {}", d.operator, d.instance, d.why);
-            if d.count > 1 {
-                let others = d.count - 1;
-                message.push_str(&format!(
-                    " ({others} other instance{} of `{}` neither)",
-                    if others == 1 { "" } else { "s" },
-                    d.operator
-                ));
-            }
-            let mut lint = Lint::new(codes::DURATION_NOT_EVALUABLE, d.loc, message);
-            match (d.fact, g.init.keyword_loc(db)) {
-                (Some(fact), _) => lint = lint.related(fact, "set to 0 here"),
-                (None, Some(init)) => {
-                    lint = lint.related(init, format!("the initial state of problem `{problem_name}`"))
+            let (n, total, op) = (d.count, d.total, &d.operator);
+            let (code, message) = match d.kind {
+                IssueKind::NoInstance => (
+                    codes::DURATION_NOT_EVALUABLE,
+                    format!(
+                        "no instance of `{op}` has a duration in problem `{problem_name}`, so it can never be \
+                         applied: for `{}`, {}{}",
+                        d.instance,
+                        d.why,
+                        others(n, "neither")
+                    ),
+                ),
+                IssueKind::Undefined => (
+                    codes::DURATION_UNDEFINED,
+                    format!(
+                        "{n} of the {total} instances of `{op}` {} no duration in problem `{problem_name}` and \
+                         {} not applicable (PDDL 2.1): for `{}`, {}",
+                        if n == 1 { "has" } else { "have" },
+                        if n == 1 { "is" } else { "are" },
+                        d.instance,
+                        d.why
+                    ),
+                ),
+                IssueKind::Invalid => (
+                    codes::INVALID_DURATION_VALUE,
+                    format!(
+                        "the duration of `{op}` is invalid for {n} of its {total} instances in problem \
+                         `{problem_name}`, which {} not applicable: for `{}`, {}",
+                        if n == 1 { "is" } else { "are" },
+                        d.instance,
+                        d.why
+                    ),
+                ),
+            };
+            // A note concerns the problem: on its `:init`, so that a domain
+            // with many problems is not flooded; the others on the duration.
+            let (here, there) = match (d.kind, init) {
+                (IssueKind::Undefined, Some(init)) => (init, Some((d.loc, format!("the duration of `{op}`")))),
+                (_, Some(init)) if d.fact.is_none() => {
+                    (d.loc, Some((init, format!("the initial state of problem `{problem_name}`"))))
                 }
-                (None, None) => {}
+                _ => (d.loc, None),
+            };
+            let mut lint = Lint::new(code, here, message);
+            if let Some(fact) = d.fact {
+                lint = lint.related(fact, "set to 0 here");
+            }
+            if let Some((loc, message)) = there {
+                lint = lint.related(loc, message);
             }
             lint
         })
         .collect()
+}
+
+/// ` (3 other instances of it neither)`, or nothing for one.
+fn others(count: usize, neither: &str) -> String {
+    match count.saturating_sub(1) {
+        0 => String::new(),
+        1 => format!(" (1 other instance {neither})"),
+        n => format!(" ({n} other instances {neither})"),
+    }
 }

@@ -27,7 +27,7 @@
 
 use std::ops::ControlFlow;
 
-use super::duration::{Compiler as DurationCompiler, DurationIssue, Env, Val};
+use super::duration::{Compiler as DurationCompiler, DurationIssue, Env, Failure, IssueKind, Tally, Val};
 use super::instantiate::{
     Arg, CAtom, Compiler, Facts, OpInput, Preds, Stop, fixpoint, instances_over, value,
 };
@@ -69,6 +69,9 @@ pub struct GroundOperator<'db> {
     /// task without duration, bounds only, a fluent that effects change, or
     /// not evaluable, which is in [`Ground::duration_issues`]).
     pub duration: Option<f64>,
+    /// Its duration is undefined in the problem (a fluent without value), or
+    /// negative, or not a finite number: PDDL 2.1 never applies the instance.
+    pub no_duration: bool,
     /// The operator has constructs outside the STRIPS view: the lists may
     /// miss atoms (see [`super::lifted::Operator::unsupported`]).
     pub unsupported: bool,
@@ -118,7 +121,7 @@ pub struct Ground<'db> {
     lists: Vec<u32>,
     /// Whether each atom is reachable with every operator, by id.
     pub reachable: Vec<bool>,
-    /// Durations that cannot be evaluated, one per operator.
+    /// Durations that cannot be evaluated, at most two per operator.
     pub duration_issues: Vec<DurationIssue<'db>>,
     /// Grounding stopped at a limit: `operators` is incomplete.
     pub truncated: bool,
@@ -363,7 +366,7 @@ pub fn ground_with<'db>(db: &'db dyn Db, problem: Unit<'db>, limits: Limits) -> 
             (Duration::None, OperatorKind::Action) => Some(0.0),
             _ => None,
         };
-        let mut issue: Option<DurationIssue<'db>> = None;
+        let mut tally = Tally::default();
         let Ground { atoms, init, objects, functions, operators, lists, .. } = &mut g;
         let env = Env { init, objects, funcs: functions };
         for k in found {
@@ -389,39 +392,47 @@ pub fn ground_with<'db>(db: &'db dyn Db, problem: Unit<'db>, limits: Limits) -> 
                 lists.truncate(kept);
                 ends[n + 1] = (lists.len() - at) as u32;
             }
-            let duration = match &c.duration {
-                None => fixed,
-                Some(e) => match env.eval(e, args) {
-                    Ok(Val::Known(v)) => Some(v),
-                    Ok(Val::Dynamic) => None,
-                    Err(f) => {
-                        match &mut issue {
-                            Some(i) => i.count += 1,
-                            None => {
-                                issue = Some(DurationIssue {
-                                    loc: Loc { item: *item, span: f.span },
-                                    operator: op.name.to_string(),
-                                    instance: show(&op.name, args, objects),
-                                    why: f.why,
-                                    fact: f.fact,
-                                    count: 1,
-                                })
-                            }
+            let (duration, no_duration) = match &c.duration {
+                None => (fixed, false),
+                Some(e) => {
+                    let evaluated = env.duration(e, args, op.name_span);
+                    let issue = |f: Failure<'db>| DurationIssue {
+                        kind: IssueKind::NoInstance,
+                        loc: Loc { item: *item, span: f.span },
+                        operator: op.name.to_string(),
+                        instance: show(&op.name, args, objects),
+                        why: f.why,
+                        fact: f.fact,
+                        count: 1,
+                        total: 0,
+                    };
+                    match evaluated {
+                        Ok(Val::Known(v)) => {
+                            tally.instance(None);
+                            (Some(v), false)
                         }
-                        None
+                        Ok(Val::Dynamic) => {
+                            tally.instance(None);
+                            (None, false)
+                        }
+                        Err(f) => {
+                            tally.instance(Some((f, &issue)));
+                            (None, true)
+                        }
                     }
-                },
+                }
             };
             operators.push(GroundOperator {
                 op: *item,
                 schema: schema as u32,
                 duration,
+                no_duration,
                 unsupported: c.unsupported,
                 at: at as u32,
                 ends,
             });
         }
-        g.duration_issues.extend(issue);
+        g.duration_issues.extend(tally.issues());
         g.schemas.push(Schema {
             item: *item,
             name: op.name.clone(),

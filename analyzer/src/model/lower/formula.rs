@@ -3,8 +3,9 @@
 use rowan::TextRange;
 
 use super::network::is_ordering_shape;
-use super::{Cx, GSexp, SyntaxKind, atom_kind, elements, glued_type};
+use super::{Cx, GSexp, SyntaxKind, elements, glued_type};
 use crate::model::*;
+use crate::syntax::looks_like_a_number;
 
 impl Cx {
     pub(super) fn term(&mut self, e: &GSexp<'_>) -> Option<Term> {
@@ -89,6 +90,10 @@ impl Cx {
                     NumExpr::Duration(t.text_range())
                 }
                 SyntaxKind::Variable => NumExpr::Var(self.name(t)),
+                _ if looks_like_a_number(t.text()) => {
+                    self.not_a_number(e);
+                    NumExpr::Special("error".into(), t.text_range())
+                }
                 _ if t.text() == "#t" || t.text().eq_ignore_ascii_case("total-time") => {
                     NumExpr::Special(t.text().to_ascii_lowercase().into(), t.text_range())
                 }
@@ -123,6 +128,18 @@ impl Cx {
                 }
             }
         }
+    }
+
+    /// `E0003` on an atom that starts like a number but is not one PDDL has.
+    pub(super) fn not_a_number(&mut self, e: &GSexp<'_>) {
+        let text = e.atom_text().unwrap_or_default();
+        self.malformed(
+            e,
+            format!(
+                "expected a number: `{text}` is not one (PDDL numbers are digits with an optional decimal \
+                 part, like `12` or `0.5`: no exponent, no `+`)"
+            ),
+        );
     }
 
     pub(super) fn timed_head(inner: &[GSexp<'_>]) -> Option<TimeSpec> {
@@ -232,8 +249,16 @@ impl Cx {
             | "always-within" | "within" | "hold-during" | "hold-after" | "before" | "after" | "between" => {
                 self.modal(&h, args, span)
             }
+            // `=` between two names or variables compares objects; with a
+            // number, `?duration` or what starts like a number, it compares numbers.
             "=" if args.len() == 2
-                && args.iter().all(|a| atom_kind(a).is_some_and(|k| k != SyntaxKind::Number)) =>
+                && args.iter().all(|a| {
+                    a.as_atom().is_some_and(|t| {
+                        t.kind() != SyntaxKind::Number
+                            && !looks_like_a_number(t.text())
+                            && !t.text().eq_ignore_ascii_case("?duration")
+                    })
+                }) =>
             {
                 match (self.term(&args[0]), self.term(&args[1])) {
                     (Some(a), Some(b)) => Gd::Equal(a, b, span),

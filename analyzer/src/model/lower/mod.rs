@@ -617,11 +617,20 @@ impl Cx {
                 let inner = self.init_element(lit)?;
                 Some(InitElement::Timed(time, Box::new(inner), span))
             }
+            [at, t @ GSexp::Atom(n), GSexp::List(_)]
+                if at.is_atom("at") && crate::syntax::looks_like_a_number(n.text()) =>
+            {
+                self.not_a_number(t);
+                None
+            }
             [not, x] if not.is_atom("not") => self.atom(x).map(|a| InitElement::NotFact(a, span)),
             [eq, f @ GSexp::List(_), v] if eq.is_atom("=") => {
                 let f = self.fluent(f)?;
                 match v {
-                    GSexp::Atom(t) if t.kind() == SyntaxKind::Symbol => {
+                    GSexp::Atom(t)
+                        if t.kind() == SyntaxKind::Symbol
+                            && !crate::syntax::looks_like_a_number(t.text()) =>
+                    {
                         Some(InitElement::AssignObject(f, self.name(t), span))
                     }
                     _ => {

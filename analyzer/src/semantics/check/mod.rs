@@ -307,7 +307,53 @@ impl<'a, 'db> Checker<'a, 'db> {
             self.feature(Feature::DurationInequalities, gd_span(d));
         }
         self.gd(d, false);
+        self.duration_values(d);
         self.durative = saved;
+    }
+
+    /// `E0115`: a constraint on `?duration` with a constant value that no
+    /// duration satisfies, `(= ?duration -5)`, `(<= ?duration (- 2 5))`, or
+    /// a value that is not a finite number, `(= ?duration (/ 1 0))`.
+    fn duration_values(&mut self, d: &Gd) {
+        match d {
+            Gd::And(parts, _) => parts.iter().for_each(|p| self.duration_values(p)),
+            Gd::Timed(_, inner, _) => self.duration_values(inner),
+            Gd::Compare(op, a, b, span) => {
+                let (op, value) = match (a, b) {
+                    (NumExpr::Duration(_), e) => (*op, e),
+                    // `(>= 5 ?duration)` is `(<= ?duration 5)`.
+                    (e, NumExpr::Duration(_)) => match op {
+                        CmpOp::Lt => (CmpOp::Gt, e),
+                        CmpOp::Le => (CmpOp::Ge, e),
+                        CmpOp::Ge => (CmpOp::Le, e),
+                        CmpOp::Gt => (CmpOp::Lt, e),
+                        CmpOp::Eq => (CmpOp::Eq, e),
+                    },
+                    _ => return,
+                };
+                let Some(v) = static_value(value) else { return };
+                let why = if !v.is_finite() {
+                    format!("the duration is `{v}`, not a finite number")
+                } else {
+                    match op {
+                        CmpOp::Eq if v < 0.0 => format!("the duration is {v}: a duration cannot be negative"),
+                        CmpOp::Le if v < 0.0 => {
+                            format!("no duration is at most {v}: a duration cannot be negative")
+                        }
+                        CmpOp::Lt if v <= 0.0 => {
+                            format!("no duration is below {v}: a duration cannot be negative")
+                        }
+                        _ => return,
+                    }
+                };
+                self.diag(
+                    codes::NEGATIVE_DURATION,
+                    *span,
+                    format!("{why}, so the action can never be applied"),
+                );
+            }
+            _ => {}
+        }
     }
 
     fn task(&mut self, t: &Task) {
@@ -502,6 +548,27 @@ fn term_text(t: &Term) -> String {
     match t {
         Term::Var(n) | Term::Const(n) => n.text.to_string(),
         Term::Func(f) => format!("({} …)", f.func.text),
+    }
+}
+
+/// The value of a numeric expression without fluents, as arithmetic gives
+/// it: a division by zero is infinite (or not a number), not refused.
+fn static_value(e: &NumExpr) -> Option<f64> {
+    match e {
+        NumExpr::Number(n) => Some(n.value()),
+        NumExpr::Op(op, args, _) => {
+            let vals = args.iter().map(static_value).collect::<Option<Vec<f64>>>()?;
+            let (first, rest) = vals.split_first()?;
+            Some(match (&**op, rest) {
+                ("-", []) => -first,
+                ("+", _) => rest.iter().fold(*first, |a, b| a + b),
+                ("-", _) => rest.iter().fold(*first, |a, b| a - b),
+                ("*", _) => rest.iter().fold(*first, |a, b| a * b),
+                ("/", _) => rest.iter().fold(*first, |a, b| a / b),
+                _ => return None,
+            })
+        }
+        _ => None,
     }
 }
 

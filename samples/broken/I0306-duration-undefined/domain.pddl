@@ -1,0 +1,18 @@
+; I0306 duration-undefined, domain: correct. The duration of `move` reads
+; `(distance ?from ?to)` and `(speed ?r)`: a problem that gives no distance
+; between two waypoints makes the moves between them not applicable (PDDL 2.1).
+(define (domain rover-moves)
+  (:requirements :typing :durative-actions :numeric-fluents)
+  (:types rover waypoint)
+  (:predicates
+    (at ?r - rover ?w - waypoint)
+    (road ?from ?to - waypoint))
+  (:functions
+    (distance ?from ?to - waypoint)
+    (speed ?r - rover))
+
+  (:durative-action move
+    :parameters (?r - rover ?from ?to - waypoint)
+    :duration (= ?duration (/ (distance ?from ?to) (speed ?r)))
+    :condition (and (at start (at ?r ?from)) (over all (road ?from ?to)))
+    :effect (and (at start (not (at ?r ?from))) (at end (at ?r ?to)))))

@@ -1,0 +1,18 @@
+; Clean counterpart of I0306 duration-undefined, domain: the duration of `move`
+; reads `(distance ?from ?to)` and `(speed ?r)`, which problem.pddl defines for
+; every road.
+(define (domain rover-moves)
+  (:requirements :typing :durative-actions :numeric-fluents)
+  (:types rover waypoint)
+  (:predicates
+    (at ?r - rover ?w - waypoint)
+    (road ?from ?to - waypoint))
+  (:functions
+    (distance ?from ?to - waypoint)
+    (speed ?r - rover))
+
+  (:durative-action move
+    :parameters (?r - rover ?from ?to - waypoint)
+    :duration (= ?duration (/ (distance ?from ?to) (speed ?r)))
+    :condition (and (at start (at ?r ?from)) (over all (road ?from ?to)))
+    :effect (and (at start (not (at ?r ?from))) (at end (at ?r ?to)))))
