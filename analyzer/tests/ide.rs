@@ -267,3 +267,52 @@ fn hierarchical_plan_steps_lead_to_tasks_and_methods() {
     assert_eq!((path.as_str(), &text[range]), ("w/transport-1.plan", "11"));
     assert!(text[usize::from(range.start())..].starts_with("11 get-to truck c"));
 }
+
+/// The diagnostics of a fixture folder of `tests/reading` (a domain and a
+/// problem), as `code message`; `edit` changes the problem's text first.
+fn check_reading(dir: &str, edit: impl Fn(String) -> String) -> Vec<String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/reading").join(dir);
+    let mut host = AnalysisHost::new();
+    let mut files = Vec::new();
+    for name in ["domain.pddl", "problem.pddl"] {
+        let mut text = std::fs::read_to_string(root.join(name)).unwrap();
+        if name == "problem.pddl" {
+            text = edit(text);
+        }
+        files.push(host.set_file_text(&format!("{dir}/{name}"), text));
+    }
+    let analysis = host.analysis();
+    files
+        .iter()
+        .flat_map(|&f| analysis.diagnostics(f).unwrap())
+        .map(|d| format!("{} {}", d.code.id, d.message))
+        .collect()
+}
+
+/// On an ordinary domain where nobody meant a position family (no HiPOP
+/// extension, no move action), the candidates that are not families are not
+/// reported (I0307 fired on every problem of IPC blocksworld and airport);
+/// hover still explains them. With a HiPOP extension, they are reported.
+#[test]
+fn family_notes_only_where_a_family_was_likely_meant() {
+    assert_eq!(check_reading("family-notes", |t| t), Vec::<String>::new());
+    let h = hover("tests/reading/family-notes", "domain.pddl", "(on ?b ?on", 1);
+    assert!(h.contains("`on ? *` is not a position family"), "{h}");
+    let with_allowed =
+        check_reading("family-notes", |t| t.replace("(:goal", "(:allowed-actions move)\n  (:goal"));
+    let notes: Vec<&String> = with_allowed.iter().filter(|d| d.starts_with("I0307")).collect();
+    assert_eq!(notes.len(), 2, "{with_allowed:#?}");
+}
+
+/// A family of one argument has no key: the note names the initial state,
+/// not an empty name (it said "`` has 2 positions"). Shown because `move`
+/// is a move action of the family.
+#[test]
+fn a_family_of_one_argument_is_not_an_empty_name() {
+    let diags = check_reading("one-argument-family", |t| t);
+    assert_eq!(
+        diags,
+        ["I0307 `at-robby *` is not a position family (Definition 12, property 1): the initial state has 2 \
+          positions: `(at-robby rooma)` and `(at-robby roomb)`; hipop does not use position reasoning for it"]
+    );
+}

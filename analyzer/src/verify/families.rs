@@ -59,6 +59,9 @@ pub struct Rejected<'db> {
     pub why: String,
     /// Where the witness is: an `:init` fact, an object, an action.
     pub witness: Option<(Loc<'db>, String)>,
+    /// Some ground operator moves along the candidate as a move action does
+    /// (Definition 14): whoever wrote it likely meant a position family.
+    pub has_move: bool,
 }
 
 /// What the families of a problem are.
@@ -71,6 +74,10 @@ pub struct Families<'db> {
     /// The problem's `:init` keyword: where what concerns the problem as a
     /// whole is reported, so that a domain with many problems is not flooded.
     pub init: Option<Loc<'db>>,
+    /// The domain or the problem uses the HiPOP extensions (abstract actions,
+    /// `:agent`, `:allowed-actions`): it is written for HiPOP's planner, whose
+    /// position reasoning the notes about families explain.
+    pub hipop: bool,
 }
 
 impl Families<'_> {
@@ -102,18 +109,45 @@ pub fn families<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Families<'db> {
     let symbols = crate::semantics::symbols::domain_symbols(db, domain);
     let tolerance = crate::db::triangle_tolerance(db);
     out.init = g.init.keyword_loc(db);
+    out.hipop = uses_hipop_extensions(db, domain, problem);
     for candidate in geometry::candidates(operators.iter().copied()) {
         let Some(pred) = g.predicates.get(&candidate.pred) else { continue };
         let decl = symbols.predicates.get(&candidate.pred).map(|s| s.loc);
         match check(db, g, symbols, &candidate, pred, decl) {
             Ok(family) => {
-                moves(db, g, &family, tolerance, out.init, &mut out.lints);
+                // A family without any move action says nothing about an
+                // ordinary domain (I0308 on every pair): only for HiPOP.
+                if out.hipop || !family.moves.is_empty() {
+                    moves(db, g, &family, tolerance, out.init, &mut out.lints);
+                }
                 out.confirmed.push(family);
             }
-            Err(rejected) => out.rejected.push(*rejected),
+            Err(mut rejected) => {
+                rejected.has_move = g.operators.iter().any(|op| move_of(g, op, pred, &candidate).is_some());
+                out.rejected.push(*rejected);
+            }
         }
     }
     out
+}
+
+/// Whether a domain or its problem uses the HiPOP extensions (HiPOP paper,
+/// section 4.2): abstract actions (tasks with their own `:duration`,
+/// `:precondition`, `:effect` or `:conflicts`), `:agent`, `:allowed-actions`.
+fn uses_hipop_extensions(db: &dyn Db, domain: Unit<'_>, problem: Unit<'_>) -> bool {
+    use crate::model::ItemData;
+    let in_domain = domain.items(db).iter().any(|&i| match &crate::db::lower_item(db, i).data {
+        ItemData::Task(t) => {
+            t.duration.is_some()
+                || t.precondition.is_some()
+                || t.effect.is_some()
+                || t.conflicts.is_some()
+                || !t.agent.is_empty()
+        }
+        ItemData::Action(a) => !a.agent.is_empty(),
+        _ => false,
+    });
+    in_domain || problem.items(db).iter().any(|&i| i.section(db) == crate::db::Section::AllowedActions)
 }
 
 /// The key of a family atom (its arguments but the position) and its position.
@@ -138,7 +172,7 @@ fn check<'db>(
 ) -> Result<Family<'db>, Box<Rejected<'db>>> {
     let family = format!("{}", Pattern(c));
     let reject = |property: u8, why: String, witness: Option<(Loc<'db>, String)>| {
-        Box::new(Rejected { candidate: c.clone(), decl, property, why, witness })
+        Box::new(Rejected { candidate: c.clone(), decl, property, why, witness, has_move: false })
     };
     // Property 1, over every key some atom of the family mentions, and every
     // object of the key's type when the key is one object.
@@ -164,6 +198,8 @@ fn check<'db>(
     let mut keys: Vec<_> = initial.iter().collect();
     keys.sort_by(|a, b| a.0.cmp(b.0));
     for (key, facts) in &keys {
+        // Whose position: the key's objects; a family of one argument
+        // (`at-robby *`) has no key: the position is the initial state's.
         let who = key.iter().map(|&o| g.objects.name(o)).collect::<Vec<_>>().join(" ");
         match facts.as_slice() {
             [_] => {}
@@ -172,15 +208,21 @@ fn check<'db>(
                     .first()
                     .and_then(|&o| g.objects.loc(o))
                     .map(|l| (l, format!("`{who}` is declared here")));
-                return Err(reject(1, format!("`{who}` has no position in the initial state"), witness));
+                let why = if key.is_empty() {
+                    "the initial state has no position".to_string()
+                } else {
+                    format!("`{who}` has no position in the initial state")
+                };
+                return Err(reject(1, why, witness));
             }
             [(a, _), (b, loc), ..] => {
-                let why = format!(
-                    "`{who}` has {} positions in the initial state: `{}` and `{}`",
-                    facts.len(),
-                    g.show_atom(*a),
-                    g.show_atom(*b)
-                );
+                let n = facts.len();
+                let positions = if key.is_empty() {
+                    format!("the initial state has {n} positions")
+                } else {
+                    format!("`{who}` has {n} positions in the initial state")
+                };
+                let why = format!("{positions}: `{}` and `{}`", g.show_atom(*a), g.show_atom(*b));
                 return Err(reject(1, why, Some((*loc, "a second position".to_string()))));
             }
         }
@@ -524,10 +566,15 @@ impl std::fmt::Display for Pattern<'_> {
     }
 }
 
-/// I0307 for each candidate that is not a family, on the predicate's declaration.
+/// I0307 for each candidate that is not a family, on the problem's `:init`.
+/// Only where someone likely meant a position family: the domain uses the
+/// HiPOP extensions, or some action moves along the candidate as a move
+/// action does. Elsewhere (blocksworld's `on`, airport's segments) the note
+/// is noise; hover still says why a predicate is not a family.
 pub fn rejected_lints<'db>(f: &Families<'db>) -> Vec<Lint<'db>> {
     f.rejected
         .iter()
+        .filter(|r| f.hipop || r.has_move)
         .filter_map(|r| {
             let decl = r.decl?;
             let here = f.init.unwrap_or(decl);
