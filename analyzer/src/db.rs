@@ -220,10 +220,47 @@ pub fn is_plan_path(path: &str) -> bool {
     [".plan", ".soln", ".sol", ".plan.json"].iter().any(|ext| name.ends_with(ext))
 }
 
+/// Whether a file is a plan: by its name ([`is_plan_path`]), or, for a file
+/// named like a domain, because it holds no `define` and reads as a plan
+/// ([`reads_as_plan`]): the IPC 2020 feature tests keep a plan in
+/// `plans/sortof.hddl`.
+#[salsa::tracked(returns(copy))]
+pub fn is_plan_file(db: &dyn Db, file: SourceFile) -> bool {
+    if is_plan_path(file.path(db)) {
+        return true;
+    }
+    let root = &parse(db, file).green.0;
+    defines(root).next().is_none() && reads_as_plan(file.text(db))
+}
+
+/// Whether a text that is not a domain or a problem is a plan all the same
+/// (a plan saved as `.hddl`, as in the IPC 2020 feature tests): it has an
+/// IPC 2020 `==>` line, or every line that is not a comment is a timed VAL
+/// step (`0.000: (move r1 a b) [10.000]`). Untimed `(…)` lines are not
+/// enough: they are also what a domain without its `(define` looks like.
+fn reads_as_plan(text: &str) -> bool {
+    let mut steps = 0usize;
+    for line in text.lines() {
+        let t = line.trim_start_matches('\u{feff}').trim();
+        if t.starts_with("==>") {
+            return true;
+        }
+        if t.is_empty() || t.starts_with(';') {
+            continue;
+        }
+        let time = t.find(|c: char| !(c.is_ascii_digit() || ".+-eE".contains(c))).unwrap_or(t.len());
+        if time == 0 || t[..time].parse::<f64>().is_err() || !t[time..].trim_start().starts_with(':') {
+            return false;
+        }
+        steps += 1;
+    }
+    steps > 0
+}
+
 /// The `define` units of a file and their items (none in a plan file).
 #[salsa::tracked(returns(ref))]
 pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
-    if is_plan_path(file.path(db)) {
+    if is_plan_file(db, file) {
         return Vec::new();
     }
     let root = &parse(db, file).green.0;
@@ -291,7 +328,7 @@ pub fn lower_item<'db>(db: &'db dyn Db, item: Item<'db>) -> Lowered {
 /// what is not a `define`. Plan files are read by [`crate::plan`] instead.
 #[salsa::tracked(returns(ref))]
 pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
-    if is_plan_path(file.path(db)) {
+    if is_plan_file(db, file) {
         return Vec::new();
     }
     let parse = parse(db, file);

@@ -179,3 +179,31 @@ fn a_negative_or_infinite_constant_duration_is_an_error() {
         .to_vec()
     );
 }
+
+/// A plan saved as `.hddl` (as in the IPC 2020 feature tests) is read and
+/// validated as a plan of the problem beside it; before, it was E0003 "not a
+/// domain or problem file".
+#[test]
+fn a_plan_saved_as_hddl_is_validated_as_a_plan() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/reading/plan-saved-as-hddl");
+    let mut host = AnalysisHost::new();
+    let mut files = Vec::new();
+    for name in ["domain.hddl", "problem.hddl", "plan.hddl"] {
+        let text = std::fs::read_to_string(dir.join(name)).unwrap();
+        files.push(host.set_file_text(&format!("lamp/{name}"), text));
+    }
+    let plan = files[2];
+    assert_eq!(host.analysis().diagnostics(plan).unwrap(), vec![]);
+    for &f in &files[..2] {
+        assert_eq!(host.analysis().diagnostics(f).unwrap(), vec![]);
+    }
+    // A wrong plan of it gets the validator's errors.
+    let wrong = "==>\n0 switch-on\nroot 1\n1 light -> by-magic 0\n<==\n";
+    host.set_file_text("lamp/plan.hddl", wrong);
+    let codes: Vec<&str> = host.analysis().diagnostics(plan).unwrap().iter().map(|d| d.code.id).collect();
+    assert_eq!(codes, ["E0432"]);
+    // What is neither a domain, a problem nor a plan is still E0003.
+    host.set_file_text("lamp/plan.hddl", "(:action a)\n");
+    let codes: Vec<&str> = host.analysis().diagnostics(plan).unwrap().iter().map(|d| d.code.id).collect();
+    assert_eq!(codes, ["E0003"]);
+}

@@ -3,7 +3,7 @@
 //! plan file, its validation against its problem (`validate`). What the
 //! shells publish.
 
-use crate::db::{Db, SourceFile, Unit, UnitKind, file_units, is_plan_path};
+use crate::db::{Db, SourceFile, Unit, UnitKind, file_units, is_plan_file};
 use crate::diagnostic::Diagnostic;
 use crate::semantics::{self, resolve::problems_of};
 
@@ -14,7 +14,7 @@ use crate::semantics::{self, resolve::problems_of};
 /// [`file_diagnostics`]): the server publishes these first.
 #[salsa::tracked(returns(ref))]
 pub fn file_check_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> {
-    if is_plan_path(file.path(db)) {
+    if is_plan_file(db, file) {
         let out = crate::validate::plan_file_diagnostics(db, file).clone();
         return semantics::finish(db, file, out);
     }

@@ -365,7 +365,7 @@ fn declaration<'db>(
 /// Go to definition; in a plan file, from a step to its action, task, method
 /// or objects in the domain and problem.
 pub fn goto_definition(db: &dyn Db, file: SourceFile, offset: TextSize) -> Option<NavTarget> {
-    if crate::db::is_plan_path(file.path(db)) {
+    if crate::db::is_plan_file(db, file) {
         return plan::definition(db, file, offset);
     }
     let (unit, item, kind, key, _) = occurrence_at(db, file, offset)?;
@@ -500,7 +500,7 @@ pub fn doc_comment(text: &str, at: TextSize) -> Option<String> {
 /// Hover: the declaration's signature and its comment; in a plan file, a
 /// step's signature, time window and validity.
 pub fn hover(db: &dyn Db, file: SourceFile, offset: TextSize) -> Option<HoverResult> {
-    if crate::db::is_plan_path(file.path(db)) {
+    if crate::db::is_plan_file(db, file) {
         return plan::hover(db, file, offset);
     }
     let (unit, item, kind, key, range) = occurrence_at(db, file, offset)?;

@@ -44,7 +44,7 @@ pub fn workspace_files(db: &dyn Db, file: SourceFile) -> Vec<SourceFile> {
     if !files.contains(&file) {
         files.push(file);
     }
-    files.retain(|f| !crate::db::is_plan_path(f.path(db)));
+    files.retain(|&f| !crate::db::is_plan_file(db, f));
     files
 }
 
