@@ -53,7 +53,6 @@ pub mod codes {
         EXTRA_PAREN = "E0002" "extra-paren" Error "a `)` closes nothing or closes too early";
         MALFORMED = "E0003" "malformed" Error "an element does not have the expected shape";
         UNKNOWN_SECTION = "E0004" "unknown-section" Error "a section or field keyword is not part of the language";
-        UNSUPPORTED = "E0005" "unsupported" Error "a construct hipop reads but does not support (PDDL+)";
         MISPLACED_SECTION = "E0006" "misplaced-section" Error "a problem section in a domain, or the reverse";
         UNDEFINED_TYPE = "E0101" "undefined-type" Error "a type is used but not declared";
         UNDEFINED_PREDICATE = "E0102" "undefined-predicate" Error "a predicate is used but not declared";
@@ -77,6 +76,8 @@ pub mod codes {
         DUPLICATE_TYPE = "W0204" "duplicate-type" Warning "a type is declared twice";
         DOMAIN_MISMATCH = "W0205" "domain-mismatch" Warning "a problem names a domain other than the one beside it";
         CONSTANT_FROM_PROBLEM = "W0206" "constant-from-problem" Warning "a domain uses a constant that only its problems declare";
+        // E0005 was this diagnostic as an error: retired, never to be reused.
+        UNSUPPORTED = "W0207" "unsupported" Warning "a construct hipop reads but neither checks nor plans or validates with (PDDL+ processes and events); E0005 before";
 
         UNCOVERED_CONFLICT = "E0301" "uncovered-conflict" Error "a literal that a method of a task may delete is not covered by the task's `:conflicts`";
         UNUSED_CONFLICT = "W0302" "unused-conflict" Warning "a conflict atom that no method of the task can delete";

@@ -1,6 +1,6 @@
-; E0005 unsupported: `(:process …)` is PDDL+ (continuous change). hipop reads
-; the domain but reports this one error and nothing else about it: it cannot
-; plan or validate with processes and events.
+; W0207 unsupported: `(:process …)` is PDDL+ (continuous change). hipop reads
+; the domain but reports this one warning and nothing else about it: it does
+; not check PDDL+, and its planner and validator cannot use processes and events.
 ; Fix: model the recharge as a durative action (PDDL 2.1), or use a PDDL+ tool.
 (define (domain rovers)
   (:requirements :typing :numeric-fluents :time)

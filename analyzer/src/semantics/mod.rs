@@ -91,8 +91,8 @@ pub fn unit_diagnostics<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Diagnostic
         misplaced(db, unit, item, &mut out);
     }
     if let Some(unsupported) = pddl_plus(db, unit) {
-        // A PDDL+ domain gets that one error: the rest would be noise about a
-        // language hipop does not claim to check.
+        // A PDDL+ domain gets that one warning: the rest would be noise about
+        // a language hipop does not claim to check.
         return vec![unsupported];
     }
     match unit.kind(db) {
@@ -214,7 +214,8 @@ fn domain_checks(db: &dyn Db, unit: Unit<'_>, out: &mut Vec<Diagnostic>) {
     unused_declarations(db, unit, out);
 }
 
-/// The error for a domain with PDDL+ processes or events, at the first one.
+/// The warning for a domain with PDDL+ processes or events, at the first one:
+/// the file is not wrong, hipop does not support it.
 fn pddl_plus(db: &dyn Db, unit: Unit<'_>) -> Option<Diagnostic> {
     let plus: Vec<Item<'_>> = unit
         .items(db)
@@ -234,7 +235,8 @@ fn pddl_plus(db: &dyn Db, unit: Unit<'_>) -> Option<Diagnostic> {
             db,
             codes::UNSUPPORTED,
             Loc { item: first, span },
-            "PDDL+ processes and events are not supported: hipop reads this domain but cannot plan or validate with it"
+            "PDDL+ processes and events are not supported: hipop does not check this domain, and cannot plan or \
+             validate with it"
                 .into(),
         );
         for &i in rest {

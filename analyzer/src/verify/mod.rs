@@ -26,8 +26,9 @@
 //! ([`Loc`]), so that typing elsewhere in a file does not re-run them; the
 //! cheap conversion to absolute [`Diagnostic`]s happens last.
 //!
-//! Problem lints run only when the problem and its domain have no errors: the
-//! model they reason on would not be the one the user wrote.
+//! Problem lints run only when the problem and its domain have no errors (the
+//! model they reason on would not be the one the user wrote), and not on
+//! PDDL+ domains.
 
 mod allowed;
 pub mod conflicts;
@@ -121,7 +122,7 @@ pub fn domain_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
 #[salsa::tracked(returns(ref))]
 pub fn problem_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
     let mut out = Vec::new();
-    if unit.kind(db) != UnitKind::Problem || !model_is_clean(db, unit) {
+    if unit.kind(db) != UnitKind::Problem || !model_is_clean(db, unit) || is_pddl_plus(db, unit) {
         return out;
     }
     out.extend(duration::duration_lints(db, unit));
@@ -132,6 +133,16 @@ pub fn problem_lints<'db>(db: &'db dyn Db, unit: Unit<'db>) -> Vec<Lint<'db>> {
     allowed::lints(db, unit, domain, &|name| fams.is_move(name, db), &mut out);
     out.extend(decompose::decomposition_lints(db, unit).iter().cloned());
     out
+}
+
+/// Whether a problem's domain is PDDL+ (W0207): hipop does not reason on
+/// processes and events, so the problem lints would be wrong.
+fn is_pddl_plus(db: &dyn Db, problem: Unit<'_>) -> bool {
+    crate::semantics::check::domain_for(db, problem).is_some_and(|d| {
+        crate::semantics::unit_diagnostics(db, d)
+            .iter()
+            .any(|d| d.code == crate::diagnostic::codes::UNSUPPORTED)
+    })
 }
 
 /// Whether a problem and its domain are free of errors.
