@@ -316,3 +316,15 @@ fn a_family_of_one_argument_is_not_an_empty_name() {
           positions: `(at-robby rooma)` and `(at-robby roomb)`; hipop does not use position reasoning for it"]
     );
 }
+
+/// Instances whose duration is undefined are never applied: they are not
+/// move actions of a family (the road a → b has no distance: 2 moves, not 3).
+#[test]
+fn instances_without_a_duration_are_not_moves() {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/planner/duration-undefined-for-some-moves.pddl");
+    let mut host = AnalysisHost::new();
+    let f = host.set_file_text("roads.pddl", std::fs::read_to_string(path).unwrap());
+    let explained = host.analysis().explain_families(f).unwrap().concat();
+    assert!(explained.contains("move actions: `move` (2 ground moves)"), "{explained}");
+}

@@ -238,7 +238,8 @@ fn check<'db>(
             return Err(reject(3, why, name_loc(db, schema.item)));
         }
     }
-    for op in &g.operators {
+    // An instance whose duration is undefined is never applied (PDDL 2.1).
+    for op in g.operators.iter().filter(|op| !op.no_duration) {
         let members = |atoms: &[AtomId]| -> Vec<AtomId> {
             atoms.iter().copied().filter(|&a| is_member(g, a, pred, c)).collect()
         };
@@ -301,6 +302,7 @@ fn move_of(g: &Ground<'_>, op: &GroundOperator<'_>, pred: PredId, c: &Candidate)
                 && f != t
                 && g.neg_pre(op).is_empty()
                 && !op.unsupported
+                && !op.no_duration
                 && is_member(g, f, pred, c)
                 && is_member(g, t, pred, c)
                 && split(g, f, c).0 == split(g, t, c).0 =>
