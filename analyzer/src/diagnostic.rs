@@ -77,7 +77,7 @@ pub mod codes {
         DOMAIN_MISMATCH = "W0205" "domain-mismatch" Warning "a problem names a domain other than the one beside it";
         CONSTANT_FROM_PROBLEM = "W0206" "constant-from-problem" Warning "a domain uses a constant that only its problems declare";
         // E0005 was this diagnostic as an error: retired, never to be reused.
-        UNSUPPORTED = "W0207" "unsupported" Warning "a construct hipop reads but neither checks nor plans or validates with (PDDL+ processes and events); E0005 before";
+        UNSUPPORTED = "W0207" "unsupported" Warning "a construct hipop reads but does not check, plan or validate with (PDDL+ processes and events)";
 
         UNCOVERED_CONFLICT = "E0301" "uncovered-conflict" Error "a literal that a method of a task may delete is not covered by the task's `:conflicts`";
         UNUSED_CONFLICT = "W0302" "unused-conflict" Warning "a conflict atom that no method of the task can delete";
