@@ -180,6 +180,9 @@ struct Applied<'db> {
     /// The method's constraints hold on the binding (when not, that was
     /// reported, and its precondition is not evaluated again).
     static_ok: bool,
+    /// Too many matchings to find one under which the orderings hold (said
+    /// by W0430): the orderings are not checked.
+    orderings_undecided: bool,
 }
 
 /// Names of the domain and the problem, by their key under the name matching.
@@ -252,6 +255,8 @@ pub(super) struct Cx<'a, 'db> {
     htn: Option<(Loc<'db>, &'db Htn)>,
     /// The top level matched the `:htn`: for each top-level step, its `:htn` subtask.
     htn_assign: Option<Vec<usize>>,
+    /// Too many matchings of the top level to decide its orderings (W0430).
+    htn_orderings_undecided: bool,
     /// Steps whose whole subtree checked out (names, methods, subtasks): only
     /// those take part in the checks of orderings and the windows of
     /// preconditions, so that one mistake is reported once.
@@ -311,6 +316,7 @@ impl<'a, 'db> Cx<'a, 'db> {
             applied: vec![None; n],
             htn,
             htn_assign: None,
+            htn_orderings_undecided: false,
             sound: vec![false; n],
             preconditions_checked: false,
             out: Vec::new(),
@@ -322,15 +328,17 @@ impl<'a, 'db> Cx<'a, 'db> {
             self.resolve(i);
         }
         self.structure();
+        // The steps' spans depend on the tree only: matchings are chosen so
+        // that the orderings hold on them, when some do.
+        let tl = timeline::Timeline::new(self);
         for k in 0..self.order.len() {
             let i = self.order[k];
             if self.plan.steps[i].is_abstract() && Some(i) != self.top.artificial {
-                self.decompose(i);
+                self.decompose(i, &tl);
             }
         }
-        self.roots();
+        self.roots(&tl);
         self.soundness();
-        let tl = timeline::Timeline::new(self);
         tl.check_orderings(self);
         tl.check_abstract_times(self);
         conditions::check(self, &tl);

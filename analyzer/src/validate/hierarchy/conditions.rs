@@ -20,7 +20,7 @@ use std::collections::BinaryHeap;
 use rowan::TextRange;
 
 use super::Cx;
-use super::decompose::precedences;
+use super::decompose::{precedences, transitive};
 use super::timeline::{EventKind, Timeline};
 use crate::diagnostic::codes;
 use crate::model::{ActionKind, CmpOp, Effect, Gd, Method, NumExpr, Str, Term, TimeSpec, Typed};
@@ -769,7 +769,9 @@ fn siblings(cx: &Cx<'_, '_>, parent: Option<usize>) -> Vec<(usize, Vec<usize>, V
     }
     let order = match (network, &assign) {
         (Some(net), Some(assign)) if assign.len() == steps.len() => {
-            let preds = precedences(net);
+            // Transitively: a subtask ordered after one refined into nothing
+            // is still after what that one is ordered after.
+            let preds = transitive(&precedences(net));
             // preds over listed positions
             let pos_of = |j: usize| assign.iter().position(|&a| a == j);
             Some(

@@ -8,6 +8,7 @@ use rustc_hash::FxHashMap;
 use super::matching::{
     self, ArgMisfit, Bound, Instance, Misfit, Outcome, PTerm, Pattern, Problem, Source, lookup,
 };
+use super::timeline::{NetOrder, Timeline};
 use super::{Applied, Cx};
 use crate::diagnostic::{Code, codes};
 use crate::model::{CmpOp, Endpoint, Gd, Method, Str, Subtask, TaskNetwork, Term, Typed};
@@ -92,6 +93,27 @@ pub(super) fn precedences(net: &TaskNetwork) -> Vec<Vec<usize>> {
         }
     }
     preds
+}
+
+/// The transitive closure of [`precedences`]: for each subtask, every
+/// subtask ordered before it, directly or through others.
+pub(super) fn transitive(preds: &[Vec<usize>]) -> Vec<Vec<usize>> {
+    (0..preds.len())
+        .map(|j| {
+            let mut seen = vec![false; preds.len()];
+            let mut stack: Vec<usize> = preds[j].clone();
+            let mut out = Vec::new();
+            while let Some(q) = stack.pop() {
+                if q == j || std::mem::replace(&mut seen[q], true) {
+                    continue;
+                }
+                out.push(q);
+                stack.extend(&preds[q]);
+            }
+            out.sort_unstable();
+            out
+        })
+        .collect()
 }
 
 /// A subtask's name in messages: its id, or its place.
@@ -182,7 +204,7 @@ impl<'db> Cx<'_, 'db> {
     }
 
     /// Checks the decomposition of abstract step `i`.
-    pub(super) fn decompose(&mut self, i: usize) {
+    pub(super) fn decompose(&mut self, i: usize, tl: &Timeline) {
         let plan = self.plan;
         let s = &plan.steps[i];
         let (Some(res), Some(dec)) = (self.resolved[i].clone(), &s.decomposition) else { return };
@@ -283,9 +305,16 @@ impl<'db> Cx<'_, 'db> {
         };
         let ids = dec.subtasks.clone();
         let list = list_range(&ids, dec.method.range);
-        if let Some((assign, binding, static_ok)) = self.match_network(&net, &ids, list, binding) {
-            self.applied[i] =
-                Some(Applied { method_key: mkey, method, method_loc: mloc, binding, assign, static_ok });
+        if let Some(m) = self.match_network(&net, &ids, list, binding, tl) {
+            self.applied[i] = Some(Applied {
+                method_key: mkey,
+                method,
+                method_loc: mloc,
+                binding: m.binding,
+                assign: m.assign,
+                static_ok: m.static_ok,
+                orderings_undecided: m.orderings_undecided,
+            });
         }
     }
 
@@ -363,15 +392,17 @@ impl<'db> Cx<'_, 'db> {
     }
 
     /// Matches the listed steps `ids` with the network, reporting what does
-    /// not match. Returns the assignment, the binding, and whether the
-    /// static conditions hold, when the steps match the subtasks one to one.
+    /// not match; of several matchings, one under which the orderings hold
+    /// on the timeline. Returns the matching when the steps match the
+    /// subtasks one to one.
     pub(super) fn match_network(
         &mut self,
         net: &Net<'db>,
         ids: &[StepId],
         list: TextRange,
         initial: Vec<Bound>,
-    ) -> Option<(Vec<usize>, Vec<Bound>, bool)> {
+        tl: &Timeline,
+    ) -> Option<NetMatch> {
         let plan = self.plan;
         let steps: Vec<usize> = ids.iter().filter_map(|id| plan.index_of(id.value)).collect();
         if steps.len() != ids.len() {
@@ -389,6 +420,7 @@ impl<'db> Cx<'_, 'db> {
             net.params.iter().map(|p| (p.name.key.clone(), type_set(&p.ty))).collect();
         let type_ok = |var: &str, obj: &str| types.get(var).is_none_or(|ty| self.fits(obj, ty));
         let accept = |b: &[Bound]| net.statics.iter().all(|g| self.static_holds(g, b) != Some(false));
+        let orderings = NetOrder::new(tl, net.network, plan, ids);
         let problem = Problem {
             patterns: &pats,
             preds: &preds,
@@ -397,17 +429,26 @@ impl<'db> Cx<'_, 'db> {
             type_ok: &type_ok,
             accept: &accept,
             use_order: self.opts.listed_order,
+            orderings: Some(&orderings),
         };
         let outcome = matching::matching(&problem);
         let report = match outcome {
-            Outcome::Matched { assign, binding } => return Some((assign, binding, true)),
-            Outcome::Unordered { assign, binding } => {
+            Outcome::Matched { assign, binding, undecided } => {
+                if undecided {
+                    self.report_undecided(net, ids, list);
+                }
+                return Some(NetMatch { assign, binding, static_ok: true, orderings_undecided: undecided });
+            }
+            Outcome::Unordered { assign, binding, undecided } => {
                 self.report_listing_order(net, ids, list, &preds, &assign);
-                return Some((assign, binding, true));
+                if undecided {
+                    self.report_undecided(net, ids, list);
+                }
+                return Some(NetMatch { assign, binding, static_ok: true, orderings_undecided: undecided });
             }
             Outcome::Rejected { assign, binding } => {
                 self.report_rejected(net, list, &binding);
-                return Some((assign, binding, false));
+                return Some(NetMatch { assign, binding, static_ok: false, orderings_undecided: false });
             }
             Outcome::TooComplex => Report::TooComplex,
             Outcome::Partial { assign, binding } => {
@@ -437,6 +478,27 @@ impl<'db> Cx<'_, 'db> {
             }
         }
         None
+    }
+
+    /// Too many matchings to find one under which the orderings hold.
+    fn report_undecided(&mut self, net: &Net<'db>, ids: &[StepId], list: TextRange) {
+        let mut d = self.diag(
+            codes::HIERARCHY_NOT_CHECKED,
+            list,
+            format!(
+                "{}: the orderings do not hold under the first matching of the {} listed steps with the subtasks, and there are too many others to try (more than {} search nodes); the orderings of the decomposition are not checked",
+                self.owner_text(net),
+                ids.len(),
+                matching::BUDGET
+            ),
+        );
+        self.related_owner(&mut d, net);
+        self.hint(
+            &mut d,
+            "the method has many identical subtasks: the steps may match them in too many ways",
+            Vec::new(),
+        );
+        self.push(d);
     }
 
     /// "method `m-deliver` of step 8 `(deliver p l)`", "the problem's `:htn`".
@@ -726,7 +788,7 @@ impl<'db> Cx<'_, 'db> {
     }
 
     /// Matches the top level of the plan with the problem's `:htn`.
-    pub(super) fn roots(&mut self) {
+    pub(super) fn roots(&mut self, tl: &Timeline) {
         let Some((loc, htn)) = self.htn else { return };
         if self.top.implicit {
             let n = htn.network.subtasks.len();
@@ -768,10 +830,22 @@ impl<'db> Cx<'_, 'db> {
                 .map_or(self.top.range, |d| list_range(&d.subtasks, d.method.range)),
             None => self.plan.root.as_ref().map_or(self.top.range, |r| list_range(&r.ids, r.range)),
         };
-        if let Some((assign, _, _)) = self.match_network(&net, &ids, list, Vec::new()) {
-            self.htn_assign = Some(assign);
+        if let Some(m) = self.match_network(&net, &ids, list, Vec::new(), tl) {
+            self.htn_assign = Some(m.assign);
+            self.htn_orderings_undecided = m.orderings_undecided;
         }
     }
+}
+
+/// A matching of a network's subtasks with the listed steps.
+pub(super) struct NetMatch {
+    /// For each listed step, its subtask.
+    pub assign: Vec<usize>,
+    pub binding: Vec<Bound>,
+    /// The static conditions hold on the binding.
+    pub static_ok: bool,
+    /// Too many matchings to find one under which the orderings hold.
+    pub orderings_undecided: bool,
 }
 
 enum Report {

@@ -10,6 +10,15 @@
 //! every subtask ordered before it has one. When no matching exists, the
 //! largest partial matching explains what is missing and what is wrong.
 //!
+//! A method may have the same subtask twice (`(task1 (y))` and `(task2
+//! (y))`, ordered `task1 < task2`): the steps then match either way, and only
+//! one way may respect the method's orderings in the plan. When the first
+//! matching found does not ([`OrderingCheck`]), the others are searched for
+//! one that does, as pandaPIparser tries all its matchings. Each search is
+//! bounded ([`BUDGET`] nodes); when the search for a matching whose
+//! orderings hold reaches it, the first matching is kept and the outcome says
+//! the orderings are undecided.
+//!
 //! Pure: names are the domain's lower-case keys, objects their keys.
 
 use crate::model::Str;
@@ -59,6 +68,18 @@ pub(crate) fn lookup<'b>(binding: &'b [Bound], var: &str) -> Option<&'b Bound> {
     binding.iter().find(|b| b.var == var)
 }
 
+/// Whether a matching's orderings hold in the plan: the method's orderings
+/// on the steps matched with its subtasks.
+pub(crate) trait OrderingCheck {
+    /// No ordering between the step at `pos` and another step already
+    /// matched is violated (`assign[pos]`: the pattern of the step at `pos`,
+    /// when matched): a necessary condition for [`OrderingCheck::complete`],
+    /// which prunes the search.
+    fn partial(&self, assign: &[Option<usize>], pos: usize) -> bool;
+    /// Every ordering holds under a complete matching.
+    fn complete(&self, assign: &[usize]) -> bool;
+}
+
 /// A matching problem.
 pub(crate) struct Problem<'a> {
     pub patterns: &'a [Pattern],
@@ -73,15 +94,20 @@ pub(crate) struct Problem<'a> {
     pub accept: &'a dyn Fn(&[Bound]) -> bool,
     /// Whether the listed order must be one the method's ordering allows.
     pub use_order: bool,
+    /// The orderings in the plan: a matching under which they hold is
+    /// preferred to one under which they do not.
+    pub orderings: Option<&'a dyn OrderingCheck>,
 }
 
 /// What matching found.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) enum Outcome {
-    /// `assign[pos]` is the pattern of the step at `pos`.
-    Matched { assign: Vec<usize>, binding: Vec<Bound> },
+    /// `assign[pos]` is the pattern of the step at `pos`. When the orderings
+    /// do not hold under it, they hold under no other matching, unless
+    /// `undecided`: the search for one reached its budget.
+    Matched { assign: Vec<usize>, binding: Vec<Bound>, undecided: bool },
     /// A matching exists, but not in the order the steps are listed.
-    Unordered { assign: Vec<usize>, binding: Vec<Bound> },
+    Unordered { assign: Vec<usize>, binding: Vec<Bound>, undecided: bool },
     /// Matchings exist, but each violates a static constraint (the first found).
     Rejected { assign: Vec<usize>, binding: Vec<Bound> },
     /// No one-to-one matching: the largest partial one (`None`: the step
@@ -91,8 +117,10 @@ pub(crate) enum Outcome {
     TooComplex,
 }
 
-/// How many search nodes one decomposition may cost.
-const BUDGET: usize = 200_000;
+/// How many search nodes one search may cost: the search for a matching,
+/// and the search for one whose orderings hold (a complete matching whose
+/// orderings are checked costs one node per pattern more).
+pub(crate) const BUDGET: usize = 200_000;
 
 struct Search<'p, 'a> {
     p: &'p Problem<'a>,
@@ -101,6 +129,8 @@ struct Search<'p, 'a> {
     binding: Vec<Bound>,
     budget: usize,
     ordered: bool,
+    /// Whether only matchings whose orderings hold are complete.
+    by_orderings: bool,
     rejected: Option<(Vec<usize>, Vec<Bound>)>,
     best: Option<(usize, Vec<Option<usize>>, Vec<Bound>)>,
 }
@@ -164,9 +194,12 @@ impl Search<'_, '_> {
         self.tick()?;
         if pos == self.p.instances.len() {
             if (self.p.accept)(&self.binding) {
-                return Ok(true);
+                let Some(check) = self.p.orderings.filter(|_| self.by_orderings) else { return Ok(true) };
+                self.budget = self.budget.saturating_sub(self.p.patterns.len());
+                let assign: Vec<usize> = self.assign.iter().map(|a| a.unwrap_or(0)).collect();
+                return Ok(check.complete(&assign));
             }
-            if self.rejected.is_none() {
+            if self.rejected.is_none() && !self.by_orderings {
                 let assign = self.assign.iter().map(|a| a.unwrap_or(0)).collect();
                 self.rejected = Some((assign, self.binding.clone()));
             }
@@ -180,7 +213,9 @@ impl Search<'_, '_> {
             if self.unify(j, pos) {
                 self.used[j] = true;
                 self.assign[pos] = Some(j);
-                if self.full(pos + 1)? {
+                let pruned = self.by_orderings
+                    && self.p.orderings.is_some_and(|check| !check.partial(&self.assign, pos));
+                if !pruned && self.full(pos + 1)? {
                     return Ok(true);
                 }
                 self.used[j] = false;
@@ -231,6 +266,7 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
         binding: p.initial.to_vec(),
         budget: BUDGET,
         ordered: p.use_order,
+        by_orderings: false,
         rejected: None,
         best: None,
     };
@@ -243,12 +279,33 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
         s.assign.iter_mut().for_each(|a| *a = None);
         s.binding = p.initial.to_vec();
     };
+    // A matching found: when its orderings do not hold, another whose do.
+    let settle = |s: &mut Search<'_, '_>| -> (Vec<usize>, Vec<Bound>, bool) {
+        let (assign, binding) = done(s);
+        let Some(check) = p.orderings else { return (assign, binding, false) };
+        if check.complete(&assign) {
+            return (assign, binding, false);
+        }
+        reset(s);
+        s.by_orderings = true;
+        s.budget = BUDGET;
+        let found = s.full(0);
+        s.by_orderings = false;
+        match found {
+            Ok(true) => {
+                let (assign, binding) = done(s);
+                (assign, binding, false)
+            }
+            Ok(false) => (assign, binding, false),
+            Err(Exhausted) => (assign, binding, true),
+        }
+    };
     if n == k {
         match s.full(0) {
             Err(Exhausted) => return Outcome::TooComplex,
             Ok(true) => {
-                let (assign, binding) = done(&s);
-                return Outcome::Matched { assign, binding };
+                let (assign, binding, undecided) = settle(&mut s);
+                return Outcome::Matched { assign, binding, undecided };
             }
             Ok(false) => {}
         }
@@ -258,8 +315,8 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
             match s.full(0) {
                 Err(Exhausted) => return Outcome::TooComplex,
                 Ok(true) => {
-                    let (assign, binding) = done(&s);
-                    return Outcome::Unordered { assign, binding };
+                    let (assign, binding, undecided) = settle(&mut s);
+                    return Outcome::Unordered { assign, binding, undecided };
                 }
                 Ok(false) => {}
             }
@@ -431,6 +488,7 @@ mod tests {
             type_ok: &|_, _| true,
             accept: &|_| true,
             use_order,
+            orderings: None,
         };
         matching(&p)
     }
@@ -468,6 +526,94 @@ mod tests {
         assert!(matches!(run(&pats, &preds, &shuffled, false), Outcome::Matched { .. }));
     }
 
+    /// The plan runs the step listed second before the step listed first:
+    /// the orderings hold when the listed second is the subtask ordered first.
+    struct SecondRunsFirst;
+
+    impl OrderingCheck for SecondRunsFirst {
+        fn partial(&self, assign: &[Option<usize>], _pos: usize) -> bool {
+            assign.get(1).copied().flatten().is_none_or(|j| j == 0)
+        }
+        fn complete(&self, assign: &[usize]) -> bool {
+            assign.get(1) == Some(&0)
+        }
+    }
+
+    /// No matching's orderings hold.
+    struct Never;
+
+    impl OrderingCheck for Never {
+        fn partial(&self, _: &[Option<usize>], _: usize) -> bool {
+            true
+        }
+        fn complete(&self, _: &[usize]) -> bool {
+            false
+        }
+    }
+
+    fn run_with(
+        patterns: &[Pattern],
+        preds: &[Vec<usize>],
+        steps: &[(&str, &[&str])],
+        use_order: bool,
+        orderings: &dyn OrderingCheck,
+    ) -> Outcome {
+        let args: Vec<Vec<Str>> =
+            steps.iter().map(|(_, a)| a.iter().map(|&x| Str::from(x)).collect()).collect();
+        let instances: Vec<Instance<'_>> =
+            steps.iter().zip(&args).map(|((n, _), a)| Instance { name: n, args: a }).collect();
+        let p = Problem {
+            patterns,
+            preds,
+            instances: &instances,
+            initial: &[],
+            type_ok: &|_, _| true,
+            accept: &|_| true,
+            use_order,
+            orderings: Some(orderings),
+        };
+        matching(&p)
+    }
+
+    #[test]
+    fn identical_subtasks_are_matched_the_way_the_orderings_hold() {
+        // (task1 (y)) (task2 (y)), task1 < task2: the steps match either way.
+        let pats = [pat("y", &[]), pat("y", &[])];
+        let preds = vec![vec![], vec![0]];
+        let steps: [(&str, &[&str]); 2] = [("y", &[]), ("y", &[])];
+        // The listed order ignored: the other way round, where the orderings hold.
+        match run_with(&pats, &preds, &steps, false, &SecondRunsFirst) {
+            Outcome::Matched { assign, undecided: false, .. } => assert_eq!(assign, vec![1, 0]),
+            other => panic!("{other:?}"),
+        }
+        // In the listed order, the first listed is task1: the orderings fail.
+        match run_with(&pats, &preds, &steps, true, &SecondRunsFirst) {
+            Outcome::Matched { assign, undecided: false, .. } => assert_eq!(assign, vec![0, 1]),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn the_search_for_orderings_that_hold_is_bounded() {
+        // Nine identical subtasks: 9! matchings, more than the budget allows
+        // once each complete one is checked; the first matching is kept.
+        let pats: Vec<Pattern> = (0..9).map(|_| pat("y", &[])).collect();
+        let preds = vec![vec![]; 9];
+        let steps: Vec<(&str, &[&str])> = (0..9).map(|_| ("y", &[][..])).collect();
+        match run_with(&pats, &preds, &steps, false, &Never) {
+            Outcome::Matched { assign, undecided: true, .. } => {
+                assert_eq!(assign, (0..9).collect::<Vec<_>>())
+            }
+            other => panic!("{other:?}"),
+        }
+        // Three: every matching tried, none holds, decided.
+        let steps3 = &steps[..3];
+        match run_with(&pats[..3], &preds[..3], steps3, false, &Never) {
+            Outcome::Matched { undecided: false, .. } => {}
+            other => panic!("{other:?}"),
+        }
+    }
+
     #[test]
     fn a_missing_step_leaves_a_partial_matching() {
         let pats = [pat("a", &["?x"]), pat("b", &["?x"]), pat("c", &["?x"])];
@@ -491,6 +637,7 @@ mod tests {
             type_ok: &|_, _| true,
             accept: &|_| true,
             use_order: true,
+            orderings: None,
         };
         let Outcome::Partial { assign, binding } = matching(&p) else { panic!() };
         assert_eq!(assign, vec![Some(0), None, Some(2)]);
@@ -520,6 +667,7 @@ mod tests {
             type_ok: &|_, _| true,
             accept: &distinct,
             use_order: true,
+            orderings: None,
         };
         assert!(matches!(matching(&p), Outcome::Rejected { .. }));
     }
