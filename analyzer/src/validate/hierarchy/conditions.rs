@@ -196,6 +196,9 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
     let last = |j: usize| tl.event_range[j].map(|r| r.1);
     // (children of a step with their predecessors and successors among siblings)
     let top_children = siblings(cx, None);
+    // A step that is both a root and a subtask (E0440) may close a cycle of
+    // subtasks: each node is placed once.
+    let mut placed = vec![false; nodes.len()];
     let mut stack: Vec<(Option<usize>, usize)> = vec![(None, n_events)];
     while let Some((parent, hi_inherited)) = stack.pop() {
         let kids = match parent {
@@ -224,7 +227,9 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
                 after = after.max(l + 1);
             }
             let hi = first(*j).unwrap_or(after);
-            if let Some(nj) = node_of[*j] {
+            if let Some(nj) = node_of[*j]
+                && !std::mem::replace(&mut placed[nj], true)
+            {
                 nodes[nj].lo = lo.min(hi);
                 nodes[nj].hi = hi;
                 if let Some(p) = parent {
