@@ -493,7 +493,7 @@ impl<'a, 'db> Cx<'a, 'db> {
     fn resolve(&mut self, i: usize) {
         let s = &self.plan.steps[i];
         let m = self.opts.matching;
-        if s.is_abstract() && normalise_name(&s.name.text, NameMatching::Lenient) == "--top" {
+        if self.artificial_top() == Some(i) {
             // pandaPIparser's artificial root: its subtasks are the top level.
             return;
         }
@@ -607,6 +607,12 @@ impl<'a, 'db> Cx<'a, 'db> {
                 "a task is an abstract step: write it after `root`, as `ID task args… -> method subtask-ids…`"
             };
             self.hint(&mut d, hint, Vec::new());
+        } else if is_abstract && normalise_name(name, NameMatching::Lenient) == "--top" {
+            self.hint(
+                &mut d,
+                "pandaPIparser's artificial root `__top` stands for the problem's `:htn` only as the one id of the `root` line",
+                Vec::new(),
+            );
         } else {
             let keys: Vec<&str> = if is_abstract {
                 self.dom.tasks.keys().map(|k| k.as_str()).collect()
@@ -792,15 +798,20 @@ impl<'a, 'db> Cx<'a, 'db> {
             return;
         };
         let mut top = Top { ids: root.ids.clone(), artificial: None, range: root.range, implicit: false };
-        if let [only] = root.ids.as_slice()
-            && let Some(i) = self.plan.index_of(only.value)
-            && self.plan.steps[i].is_abstract()
-            && normalise_name(&self.plan.steps[i].name.text, NameMatching::Lenient) == "--top"
-        {
+        if let Some(i) = self.artificial_top() {
             // `root 8` and `8 __top -> __top_method 13 16`.
-            let dec =
-                self.plan.steps[i].decomposition.as_ref().map(|d| d.subtasks.clone()).unwrap_or_default();
-            top = Top { ids: dec, artificial: Some(i), range: self.plan.steps[i].range, implicit: false };
+            let dec = self.plan.steps[i].decomposition.as_ref();
+            top = Top {
+                ids: dec.map(|d| d.subtasks.clone()).unwrap_or_default(),
+                artificial: Some(i),
+                range: self.plan.steps[i].range,
+                implicit: false,
+            };
+            if let Some(method) = dec.map(|d| &d.method)
+                && normalise_name(&method.text, NameMatching::Lenient) != "--top-method"
+            {
+                self.top_method(i, method.range, &method.text);
+            }
         }
         let mut seen: Vec<u32> = Vec::new();
         for id in &root.ids {
@@ -833,6 +844,46 @@ impl<'a, 'db> Cx<'a, 'db> {
             }
         }
         self.top = top;
+    }
+
+    /// pandaPIparser's artificial root: the only id of the `root` line, a
+    /// step of the task `__top` (which no domain declares).
+    fn artificial_top(&self) -> Option<usize> {
+        let [only] = self.plan.root.as_ref()?.ids.as_slice() else { return None };
+        let i = self.plan.index_of(only.value)?;
+        let s = &self.plan.steps[i];
+        (s.is_abstract() && normalise_name(&s.name.text, NameMatching::Lenient) == "--top").then_some(i)
+    }
+
+    /// The artificial root refined by another method than `__top_method`
+    /// (pandaPIparser's method of the problem's `:htn`).
+    fn top_method(&mut self, i: usize, range: TextRange, name: &str) {
+        let (code, message) = match self.methods.get(name, self.opts.matching) {
+            Some(key) => {
+                let task = self.dom.methods.get(key).and_then(|d| d.task.clone()).unwrap_or_default();
+                (
+                    codes::WRONG_METHOD,
+                    format!(
+                        "{} is refined by `{name}`, but `{key}` is a method of `{task}`, not of the artificial root `__top`",
+                        self.step_text(i)
+                    ),
+                )
+            }
+            None => (
+                codes::UNKNOWN_METHOD,
+                format!(
+                    "{} is refined by `{name}`, but the artificial root `__top` has one method, `__top_method`",
+                    self.step_text(i)
+                ),
+            ),
+        };
+        let mut d = self.diag(code, range, message);
+        self.hint(
+            &mut d,
+            "pandaPIparser's artificial root is refined by `__top_method` into the tasks of the problem's `:htn`",
+            vec![(range, "__top_method".to_string())],
+        );
+        self.push(d);
     }
 
     /// Cycles and orphans: steps the top level does not reach.
