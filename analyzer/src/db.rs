@@ -339,6 +339,7 @@ pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> 
             code: match e.kind {
                 syntax::SyntaxErrorKind::MissingParen => codes::MISSING_PAREN,
                 syntax::SyntaxErrorKind::ExtraParen => codes::EXTRA_PAREN,
+                syntax::SyntaxErrorKind::TooDeep => codes::NESTING_TOO_DEEP,
             },
             severity: Severity::Error,
             file,
@@ -350,7 +351,7 @@ pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> 
                 .map(|(r, m)| crate::diagnostic::Related { file, range: *r, message: m.clone() })
                 .collect(),
             fix: e.fix.as_ref().map(|(range, text)| crate::diagnostic::Fix {
-                message: if text.is_empty() { "remove this `)`".into() } else { format!("insert `{text}`") },
+                message: fix_message(*range, text),
                 edits: vec![(file, *range, text.clone())],
             }),
         })
@@ -396,6 +397,16 @@ pub fn file_level_diagnostics(db: &dyn Db, file: SourceFile) -> Vec<Diagnostic> 
     }
     out.extend(stray);
     out
+}
+
+/// What the fix of a syntax error does: remove the `)` of the range, or insert `)`.
+fn fix_message(range: TextRange, text: &str) -> String {
+    match (text.len(), u32::from(range.len())) {
+        (0, 1) => "remove this `)`".into(),
+        (0, _) => "remove these `)`".into(),
+        (n, _) if n <= 8 => format!("insert `{text}`"),
+        (n, _) => format!("insert {n} `)`"),
+    }
 }
 
 fn structure_error(file: SourceFile, range: TextRange, message: &str) -> Diagnostic {

@@ -54,6 +54,7 @@ pub mod codes {
         MALFORMED = "E0003" "malformed" Error "an element does not have the expected shape";
         UNKNOWN_SECTION = "E0004" "unknown-section" Error "a section or field keyword is not part of the language";
         MISPLACED_SECTION = "E0006" "misplaced-section" Error "a problem section in a domain, or the reverse";
+        NESTING_TOO_DEEP = "E0007" "nesting-too-deep" Error "lists nested more than 256 deep: the deeper list is kept as text, not read";
         UNDEFINED_TYPE = "E0101" "undefined-type" Error "a type is used but not declared";
         UNDEFINED_PREDICATE = "E0102" "undefined-predicate" Error "a predicate is used but not declared";
         UNDEFINED_FUNCTION = "E0103" "undefined-function" Error "a function (numeric fluent) is used but not declared";

@@ -25,7 +25,9 @@ pub enum SyntaxKind {
     // Nodes.
     /// A parenthesised list, possibly missing its `)`.
     List,
-    /// A `)` that closes nothing (kept so that printing the tree gives the input back).
+    /// A `)` that closes nothing, or a list nested deeper than the limit
+    /// (`parser::MAX_NESTING`) as flat tokens: kept so that printing the tree
+    /// gives the input back, and skipped by every view of the tree.
     Error,
     /// A run of consecutive children of a long list (see `GROUP_SIZE`): transparent
     /// for every view of the tree, it bounds what an edit copies.

@@ -12,6 +12,12 @@
 //!   belongs to the item: the formula is missing its `)`;
 //! - a `)` that would close an item right before one of its field keywords, or
 //!   a `define` right before a new section, is an extra `)`.
+//!
+//! Lists never nest deeper than [`MAX_NESTING`]: a list that would is kept,
+//! up to its matching `)`, as the flat tokens of an `Error` node (printing the
+//! tree still gives the text back) and reported once. Every recursion over the
+//! tree or over what is read from it (lowering, checks, the comparisons and
+//! drops of trees and models) is then bounded, whatever the input.
 
 use rowan::{GreenNode, TextRange};
 
@@ -26,9 +32,17 @@ use super::lexer::Tokens;
 pub enum SyntaxErrorKind {
     /// A list is not closed.
     MissingParen,
-    /// A `)` closes nothing, or closes a list too early.
+    /// A `)` closes nothing, or closes a list too early (or a run of them).
     ExtraParen,
+    /// A list nested deeper than [`MAX_NESTING`], kept as text.
+    TooDeep,
 }
+
+/// How deep lists may nest: a list inside this many open lists is not read
+/// (real PDDL nests about a dozen deep). Bounds every recursion over the tree
+/// and the model; small enough for the 2 MiB stacks of the server's threads
+/// in unoptimised builds.
+pub const MAX_NESTING: usize = 256;
 
 /// A syntax error: a span in the text and a one-line message.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -133,6 +147,10 @@ struct Frame {
     last: TextRange,
     /// Frames standing for the ancestors of a list being re-parsed alone.
     virtual_: bool,
+    /// The innermost `define` and item frames below this one (stack indexes):
+    /// recovery finds them in O(1), not by searching the stack.
+    define_below: Option<usize>,
+    item_below: Option<usize>,
 }
 
 /// The tail of a large `:init`, built on another thread since the parse began.
@@ -142,6 +160,8 @@ struct Tail {
     /// Where the tail starts, and the `:init`'s closing `)`.
     split: usize,
     close: usize,
+    /// How deep lists nest inside the `:init` (1: facts).
+    depth: usize,
     built: std::sync::mpsc::Receiver<Vec<Element>>,
 }
 
@@ -155,6 +175,13 @@ pub(crate) struct Parser<'t> {
     builder: TreeBuilder<'t>,
     stack: Vec<Frame>,
     errors: Vec<SyntaxError>,
+    /// The run of extra `)` reported last (the last error): its last `)`
+    /// token, how many it has and why they are extra. The next extra `)`
+    /// for the same reason after whitespace only joins it.
+    extra_run: Option<(usize, usize, String)>,
+    /// Lists opened in text kept as too deep and never closed: part of the
+    /// missing `)` reported at the end.
+    unclosed: usize,
     /// Set when a re-parse would have to touch an ancestor: the caller falls back to a full parse.
     escaped: bool,
     /// Whether a large `:init` may be built on two threads (tests compare both ways).
@@ -172,6 +199,8 @@ impl<'t> Parser<'t> {
             builder: TreeBuilder::new(),
             stack: Vec::new(),
             errors: Vec::new(),
+            extra_run: None,
+            unclosed: 0,
             escaped: false,
             parallel: true,
         }
@@ -199,6 +228,24 @@ impl<'t> Parser<'t> {
         self.pos += 1;
     }
 
+    /// The stack index of the innermost frame of `category`.
+    fn innermost(&self, category: Category) -> Option<usize> {
+        let top = self.stack.last()?;
+        if top.category == category {
+            return Some(self.stack.len() - 1);
+        }
+        match category {
+            Category::Define => top.define_below,
+            Category::Item => top.item_below,
+            _ => unreachable!("only defines and items are looked up"),
+        }
+    }
+
+    fn push_frame(&mut self, category: Category, open: TextRange, virtual_: bool) {
+        let (define_below, item_below) = (self.innermost(Category::Define), self.innermost(Category::Item));
+        self.stack.push(Frame { category, open, head: None, last: open, virtual_, define_below, item_below });
+    }
+
     /// Whether the list starting at token `i` (a `(`) is a section of a `define`.
     fn starts_section(&self, i: usize) -> bool {
         self.next_significant(i + 1)
@@ -224,7 +271,7 @@ impl<'t> Parser<'t> {
         }
         let innermost = *self.stack.last().expect("non-empty stack");
         let outermost = self.stack[keep];
-        let count = self.stack.len() - keep;
+        let count = self.stack.len() - keep + std::mem::take(&mut self.unclosed);
         let head = self.head_text(&innermost);
         let what = if head.is_empty() { String::from("a list") } else { format!("`({head}`") };
         let message = if count == 1 {
@@ -268,31 +315,63 @@ impl<'t> Parser<'t> {
                 SyntaxKind::LParen => {
                     if self.starts_section(self.pos) {
                         // A new section: it belongs directly to the innermost `define`.
-                        let keep = self
-                            .stack
-                            .iter()
-                            .rposition(|f| f.category == Category::Define)
-                            .map_or(0, |i| i + 1);
+                        let keep = self.innermost(Category::Define).map_or(0, |i| i + 1);
                         self.close_missing(keep);
                         if self.escaped {
                             return;
                         }
                     }
+                    if self.stack.len() >= MAX_NESTING {
+                        self.too_deep();
+                        continue;
+                    }
                     let open = self.range(self.pos);
                     self.builder.start_node(SyntaxKind::List);
                     self.bump();
-                    self.stack.push(Frame {
-                        category: Category::Unknown,
-                        open,
-                        head: None,
-                        last: open,
-                        virtual_: false,
-                    });
+                    self.push_frame(Category::Unknown, open, false);
                 }
                 SyntaxKind::RParen => self.close_paren(),
                 _ => self.atom(),
             }
         }
+    }
+
+    /// Keeps the list starting at the current `(`, which would nest deeper
+    /// than [`MAX_NESTING`], as flat tokens in an `Error` node, up to its
+    /// matching `)` or the end of the text; reports it once.
+    fn too_deep(&mut self) {
+        let open = self.range(self.pos);
+        self.builder.start_node(SyntaxKind::Error);
+        let mut depth = 0usize;
+        let mut last = open;
+        while self.pos < self.kinds.len() {
+            match self.kinds[self.pos] {
+                SyntaxKind::LParen => depth += 1,
+                SyntaxKind::RParen => depth -= 1,
+                _ => {}
+            }
+            if !self.kinds[self.pos].is_trivia() {
+                last = self.range(self.pos);
+            }
+            self.bump();
+            if depth == 0 {
+                break;
+            }
+        }
+        self.builder.finish_node();
+        self.unclosed += depth;
+        if let Some(top) = self.stack.last_mut() {
+            top.last = last;
+        }
+        self.errors.push(SyntaxError {
+            kind: SyntaxErrorKind::TooDeep,
+            range: open,
+            message: format!(
+                "lists nested more than {MAX_NESTING} deep: this list is kept as text, not read"
+            ),
+            related: None,
+            fix: None,
+        });
     }
 
     fn atom(&mut self) {
@@ -313,8 +392,8 @@ impl<'t> Parser<'t> {
             }
             Some(Category::Other) if kind == SyntaxKind::Keyword && is_in(FIELD_KEYWORDS, text) => {
                 // A field keyword inside a formula: the formula is missing its `)`.
-                let item = self.stack.iter().rposition(|f| f.category == Category::Item);
-                let define = self.stack.iter().rposition(|f| f.category == Category::Define);
+                let item = self.innermost(Category::Item);
+                let define = self.innermost(Category::Define);
                 if let Some(item) = item
                     && define.is_none_or(|d| d < item)
                 {
@@ -346,7 +425,11 @@ impl<'t> Parser<'t> {
             return;
         }
         let start = self.pos;
-        if let Some(tail) = self.tail.take_if(|t| t.start == start) {
+        // The halves are built without the nesting limit: only an interior
+        // that stays within it may be built that way.
+        if let Some(tail) = self.tail.take_if(|t| t.start == start)
+            && self.stack.len() + tail.depth <= MAX_NESTING
+        {
             let first = fragment(self.text, self.kinds, self.offsets, start, tail.split);
             let second = tail
                 .built
@@ -355,11 +438,14 @@ impl<'t> Parser<'t> {
             self.join_interior(start, tail.close, first, second);
             return;
         }
-        let mut depth = 0usize;
+        let (mut depth, mut deepest) = (0usize, 0usize);
         let mut close = None;
         for i in start..self.kinds.len() {
             match self.kinds[i] {
-                SyntaxKind::LParen => depth += 1,
+                SyntaxKind::LParen => {
+                    depth += 1;
+                    deepest = deepest.max(depth);
+                }
                 SyntaxKind::RParen if depth == 0 => {
                     close = Some(i);
                     break;
@@ -370,7 +456,7 @@ impl<'t> Parser<'t> {
             }
         }
         let Some(close) = close else { return };
-        if close - start < PARALLEL_FROM_TOKENS {
+        if close - start < PARALLEL_FROM_TOKENS || self.stack.len() + deepest > MAX_NESTING {
             return;
         }
         // Split at the first top-level `(` after the middle.
@@ -415,7 +501,7 @@ impl<'t> Parser<'t> {
     fn close_paren(&mut self) {
         let range = self.range(self.pos);
         let Some(top) = self.stack.last().copied() else {
-            self.extra_paren("unexpected `)`: there is no open `(` to close".to_string());
+            self.extra_paren("there is no open `(` to close".to_string());
             return;
         };
         if top.virtual_ {
@@ -446,7 +532,7 @@ impl<'t> Parser<'t> {
         };
         if extra {
             let what = self.head_text(&top);
-            self.extra_paren(format!("unexpected `)`: it closes `({what}` before its end, which follows"));
+            self.extra_paren(format!("it closes `({what}` before its end, which follows"));
             if let Some(top) = self.stack.last_mut() {
                 top.last = range;
             }
@@ -460,18 +546,38 @@ impl<'t> Parser<'t> {
         }
     }
 
-    fn extra_paren(&mut self, message: String) {
-        let range = self.range(self.pos);
+    /// Reports the current `)` as extra (`reason` says why) and keeps it in an
+    /// `Error` node. A run of extra `)` for the same reason, separated by
+    /// whitespace only, is one error with its count and the run's range, so
+    /// that a file of `)` gives one error, not one per byte.
+    fn extra_paren(&mut self, reason: String) {
+        let at = self.pos;
+        let range = self.range(at);
         self.builder.start_node(SyntaxKind::Error);
         self.bump();
         self.builder.finish_node();
+        if let Some((end, count, why)) = &mut self.extra_run
+            && *why == reason
+            && (*end + 1..at).all(|i| self.kinds[i] == SyntaxKind::Whitespace)
+            && let Some(last) = self.errors.last_mut()
+        {
+            // Only whitespace since the run's last `)`: no other error came between.
+            debug_assert_eq!(last.kind, SyntaxErrorKind::ExtraParen);
+            *end = at;
+            *count += 1;
+            last.range = last.range.cover(range);
+            last.message = format!("unexpected `)` ({count} in a row): {reason}");
+            last.fix = Some((last.range, String::new()));
+            return;
+        }
         self.errors.push(SyntaxError {
             kind: SyntaxErrorKind::ExtraParen,
             range,
-            message,
+            message: format!("unexpected `)`: {reason}"),
             related: None,
             fix: Some((range, String::new())),
         });
+        self.extra_run = Some((at, 1, reason));
     }
 
     /// Parses a whole file.
@@ -494,17 +600,12 @@ impl<'t> Parser<'t> {
         }
         let dummy = TextRange::empty(0.into());
         for a in ancestors {
-            self.stack.push(Frame {
-                category: match a {
-                    AncestorKind::Define => Category::Define,
-                    AncestorKind::Item => Category::Item,
-                    AncestorKind::Other => Category::Other,
-                },
-                open: dummy,
-                head: None,
-                last: dummy,
-                virtual_: true,
-            });
+            let category = match a {
+                AncestorKind::Define => Category::Define,
+                AncestorKind::Item => Category::Item,
+                AncestorKind::Other => Category::Other,
+            };
+            self.push_frame(category, dummy, true);
         }
         let base = self.stack.len();
         // The starting `(` must not itself start a section somewhere else.
@@ -564,10 +665,11 @@ const PARALLEL_FROM_TOKENS: usize = 50_000;
 /// Where the first large `:init` of the tokens is, and where to split it so
 /// that a thread started now, building the tail, finishes with the parser,
 /// which first parses everything before it, then the head of the `:init`:
-/// `(start, split, close)`. `None` when there is none, or when its interior
-/// could trigger recovery (a keyword inside, unbalanced parentheses): then
-/// the parser decides when it gets there.
-fn large_init(text: &str, kinds: &[SyntaxKind], offsets: &[u32]) -> Option<(usize, usize, usize)> {
+/// `(start, split, close, depth)`, `depth` how deep lists nest inside it.
+/// `None` when there is none, or when its interior could trigger recovery
+/// (a keyword inside, unbalanced parentheses): then the parser decides when
+/// it gets there.
+fn large_init(text: &str, kinds: &[SyntaxKind], offsets: &[u32]) -> Option<(usize, usize, usize, usize)> {
     let significant = |i: usize| !kinds[i].is_trivia();
     let keyword = (0..kinds.len()).find(|&k| {
         kinds[k] == SyntaxKind::Keyword
@@ -575,11 +677,14 @@ fn large_init(text: &str, kinds: &[SyntaxKind], offsets: &[u32]) -> Option<(usiz
             && (0..k).rev().find(|&i| significant(i)).is_some_and(|i| kinds[i] == SyntaxKind::LParen)
     })?;
     let start = keyword + 1;
-    let mut depth = 0usize;
+    let (mut depth, mut deepest) = (0usize, 0usize);
     let mut close = None;
     for (i, &kind) in kinds.iter().enumerate().skip(start) {
         match kind {
-            SyntaxKind::LParen => depth += 1,
+            SyntaxKind::LParen => {
+                depth += 1;
+                deepest = deepest.max(depth);
+            }
             SyntaxKind::RParen if depth == 0 => {
                 close = Some(i);
                 break;
@@ -599,7 +704,7 @@ fn large_init(text: &str, kinds: &[SyntaxKind], offsets: &[u32]) -> Option<(usiz
     let mut depth = 0usize;
     for (i, &kind) in kinds.iter().enumerate().take(close).skip(start) {
         match kind {
-            SyntaxKind::LParen if depth == 0 && i >= target => return Some((start, i, close)),
+            SyntaxKind::LParen if depth == 0 && i >= target => return Some((start, i, close, deepest)),
             SyntaxKind::LParen => depth += 1,
             SyntaxKind::RParen => depth -= 1,
             _ => {}
@@ -612,7 +717,7 @@ fn large_init(text: &str, kinds: &[SyntaxKind], offsets: &[u32]) -> Option<(usiz
 /// on a second thread from the start.
 pub(crate) fn parse_file(text: &str, tokens: &Tokens) -> (GreenNode, Vec<SyntaxError>) {
     let mut parser = Parser::new(text, tokens);
-    let Some((start, split, close)) = large_init(text, &tokens.kinds, &tokens.starts) else {
+    let Some((start, split, close, depth)) = large_init(text, &tokens.kinds, &tokens.starts) else {
         return parser.parse_file();
     };
     std::thread::scope(|scope| {
@@ -622,7 +727,7 @@ pub(crate) fn parse_file(text: &str, tokens: &Tokens) -> (GreenNode, Vec<SyntaxE
             // A parser that does not use it (it never happens) drops the receiver.
             let _ = send.send(fragment(text, kinds, offsets, split, close));
         });
-        parser.tail = Some(Tail { start, split, close, built });
+        parser.tail = Some(Tail { start, split, close, depth, built });
         parser.parse_file()
     })
 }

@@ -122,6 +122,105 @@ fn stray_paren_at_end_and_missing_at_eof() {
     assert!(errs[0].starts_with("36..37: missing `)`: `(define` is not closed"), "{errs:?}");
 }
 
+/// How deep lists nest in a tree, walked without recursion.
+fn list_depth(p: &Parse) -> usize {
+    let (mut depth, mut deepest) = (0usize, 0usize);
+    for event in p.syntax().preorder() {
+        match event {
+            rowan::WalkEvent::Enter(n) if n.kind() == SyntaxKind::List => {
+                depth += 1;
+                deepest = deepest.max(depth);
+            }
+            rowan::WalkEvent::Leave(n) if n.kind() == SyntaxKind::List => depth -= 1,
+            _ => {}
+        }
+    }
+    deepest
+}
+
+fn kinds(p: &Parse) -> Vec<SyntaxErrorKind> {
+    p.errors.iter().map(|e| e.kind).collect()
+}
+
+#[test]
+fn lists_deeper_than_the_limit_are_kept_as_text() {
+    // `(p)` is the deepest list, at `depth`.
+    let nested = |depth: usize| format!("{}(p){}", "(and ".repeat(depth - 1), ")".repeat(depth - 1));
+    let at_limit = parse(&nested(MAX_NESTING));
+    assert!(at_limit.errors.is_empty(), "{:?}", at_limit.errors);
+    assert_eq!(list_depth(&at_limit), MAX_NESTING);
+    for depth in [MAX_NESTING + 1, 10_000, 300_000] {
+        let text = nested(depth);
+        let p = parse(&text);
+        assert_eq!(p.text(), text);
+        assert_eq!(list_depth(&p), MAX_NESTING);
+        assert_eq!(kinds(&p), vec![SyntaxErrorKind::TooDeep], "{depth}");
+        // At the `(` one level too deep: `(and ` is five bytes.
+        let at = 5 * MAX_NESTING;
+        assert_eq!(p.errors[0].range, TextRange::at((at as u32).into(), 1.into()));
+        assert_eq!(
+            p.errors[0].message,
+            format!("lists nested more than {MAX_NESTING} deep: this list is kept as text, not read")
+        );
+        // The text kept is one flat node up to the matching `)`: what follows is read.
+        let after = format!("{text} (q)");
+        assert_eq!(list_depth(&parse(&after)), MAX_NESTING);
+        assert_eq!(kinds(&parse(&after)), vec![SyntaxErrorKind::TooDeep]);
+    }
+}
+
+#[test]
+fn unclosed_lists_too_deep_are_counted_in_the_missing_paren() {
+    for n in [MAX_NESTING + 1, 200_000] {
+        let text = "(".repeat(n);
+        let p = parse(&text);
+        assert_eq!(p.text(), text);
+        assert_eq!(kinds(&p), vec![SyntaxErrorKind::TooDeep, SyntaxErrorKind::MissingParen]);
+        assert_eq!(
+            p.errors[1].message,
+            format!("missing {n} `)`: a list and the lists around it are not closed")
+        );
+        let (range, insert) = p.errors[1].fix.clone().unwrap();
+        assert_eq!((range, insert), (TextRange::empty(TextSize::of(text.as_str())), ")".repeat(n)));
+        assert_eq!(list_depth(&p), MAX_NESTING);
+    }
+}
+
+#[test]
+fn a_run_of_extra_parens_is_one_error() {
+    assert_eq!(errors("))))"), vec!["0..4: unexpected `)` (4 in a row): there is no open `(` to close"]);
+    assert_eq!(
+        errors("(a) )\n )\t)"),
+        vec!["4..10: unexpected `)` (3 in a row): there is no open `(` to close"]
+    );
+    let p = parse(&")".repeat(200_000));
+    assert_eq!(p.errors.len(), 1);
+    assert_eq!(p.errors[0].fix, Some((TextRange::new(0.into(), 200_000.into()), String::new())));
+    // A comment or an atom between two `)` ends the run: removing the run must not remove them.
+    assert_eq!(errors(") ; c\n)").len(), 2);
+    assert_eq!(errors(") x )").len(), 2);
+}
+
+#[test]
+fn a_large_init_nested_too_deep_is_built_sequentially() {
+    let mut text = String::from("(define (problem big) (:domain d)\n  (:init\n");
+    for i in 0..20_000 {
+        text.push_str(&format!("    (road a b) (= (distance a b) {i}.5)\n"));
+    }
+    text.push_str(&format!("    {}(p){}\n", "(q ".repeat(300), ")".repeat(300)));
+    text.push_str("  )\n  (:goal (road a b)))\n");
+    let parallel = parse(&text);
+    let tokens = super::lexer::lex(&text);
+    let mut sequential = parser::Parser::new(&text, &tokens);
+    sequential.parallel = false;
+    let (green, errors) = sequential.parse_file();
+    assert_eq!(parallel.text(), text);
+    assert_eq!(kinds(&parallel), vec![SyntaxErrorKind::TooDeep]);
+    assert_eq!(&*parallel.errors, &errors[..]);
+    assert_eq!(parallel.green, Green(green));
+    assert_eq!(list_depth(&parallel), MAX_NESTING);
+}
+
 fn reparse_matches(text: &str, start: usize, end: usize, insert: &str) {
     let old = parse(text);
     let mut new_text = text.to_string();
@@ -184,6 +283,26 @@ proptest! {
     fn reparse_equals_parse(start in 0usize..DOMAIN.len(), len in 0usize..8, insert in "[() :a-z?]{0,6}") {
         let end = (start + len).min(DOMAIN.len());
         reparse_matches(DOMAIN, start, end, &insert);
+    }
+}
+
+/// A domain whose precondition nests to the limit, give or take `extra`.
+fn deep_domain(extra: usize) -> String {
+    let k = MAX_NESTING - 4 + extra;
+    DOMAIN.replace("(and (p ?x))", &format!("{}(and (p ?x)){}", "(or ".repeat(k), ")".repeat(k)))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    // Edits around the limit: one level more or less, in the deepest lists.
+    #[test]
+    fn reparse_equals_parse_near_the_limit(extra in 0usize..3, back in 0usize..1_600, len in 0usize..6, insert in "[() a?]{0,5}") {
+        let text = deep_domain(extra);
+        let deepest = text.find("(p ?x))").unwrap();
+        let start = deepest.saturating_sub(back % 800) + back / 800 * 6;
+        let end = (start + len).min(text.len());
+        reparse_matches(&text, start, end, &insert);
     }
 }
 
