@@ -55,6 +55,7 @@ pub mod codes {
         UNKNOWN_SECTION = "E0004" "unknown-section" Error "a section or field keyword is not part of the language";
         MISPLACED_SECTION = "E0006" "misplaced-section" Error "a problem section in a domain, or the reverse";
         NESTING_TOO_DEEP = "E0007" "nesting-too-deep" Error "lists nested more than 256 deep: the deeper list is kept as text, not read";
+        DIAGNOSTICS_NOT_SHOWN = "I0008" "diagnostics-not-shown" Info "a file has more diagnostics than are shown (200 by default): how many more, of which severities";
         UNDEFINED_TYPE = "E0101" "undefined-type" Error "a type is used but not declared";
         UNDEFINED_PREDICATE = "E0102" "undefined-predicate" Error "a predicate is used but not declared";
         UNDEFINED_FUNCTION = "E0103" "undefined-function" Error "a function (numeric fluent) is used but not declared";
@@ -209,5 +210,114 @@ impl LocalDiag {
     ) -> LocalDiag {
         self.fix = Some((message.into(), span, insert.into()));
         self
+    }
+}
+
+/// How many diagnostics of one file the shells show (`hipop check
+/// --max-diagnostics`, the language server).
+pub const SHOWN_PER_FILE: usize = 200;
+
+/// The diagnostics to show: at most `max` per file (all when `max` is 0),
+/// errors first, then warnings, then information, each file's in their order;
+/// a file with more ends with one I0008 that says how many more there are, of
+/// which severities, at the first of them. What the shells count (the exit
+/// status, the summary) is every diagnostic, not only those shown.
+pub fn shown_per_file(diagnostics: &[Diagnostic], max: usize) -> Vec<Diagnostic> {
+    let mut files: Vec<(SourceFile, Vec<usize>)> = Vec::new();
+    let mut index: rustc_hash::FxHashMap<SourceFile, usize> = rustc_hash::FxHashMap::default();
+    for (i, d) in diagnostics.iter().enumerate() {
+        let at = *index.entry(d.file).or_insert_with(|| {
+            files.push((d.file, Vec::new()));
+            files.len() - 1
+        });
+        files[at].1.push(i);
+    }
+    let mut out = Vec::with_capacity(diagnostics.len().min(files.len() * (max + 1)));
+    for (file, all) in files {
+        if max == 0 || all.len() <= max {
+            out.extend(all.iter().map(|&i| diagnostics[i].clone()));
+            continue;
+        }
+        let mut by_severity = all.clone();
+        by_severity.sort_by_key(|&i| diagnostics[i].severity);
+        let mut shown = by_severity[..max].to_vec();
+        shown.sort_unstable();
+        out.extend(shown.iter().map(|&i| diagnostics[i].clone()));
+        let hidden = &by_severity[max..];
+        let count = |s: Severity| hidden.iter().filter(|&&i| diagnostics[i].severity == s).count();
+        let parts: Vec<String> =
+            [(Severity::Error, "error"), (Severity::Warning, "warning"), (Severity::Info, "info")]
+                .into_iter()
+                .map(|(s, word)| (count(s), word))
+                .filter(|&(n, _)| n > 0)
+                .map(|(n, word)| format!("{n} {word}{}", if n == 1 { "" } else { "s" }))
+                .collect();
+        let first = hidden.iter().min().map_or(TextRange::default(), |&i| diagnostics[i].range);
+        out.push(Diagnostic {
+            code: codes::DIAGNOSTICS_NOT_SHOWN,
+            severity: codes::DIAGNOSTICS_NOT_SHOWN.severity,
+            file,
+            range: first,
+            message: format!(
+                "{} more diagnostic{} in this file not shown ({}), the first of them here: \
+                 hipop shows at most {max} per file",
+                hidden.len(),
+                if hidden.len() == 1 { "" } else { "s" },
+                parts.join(", ")
+            ),
+            related: Vec::new(),
+            fix: None,
+        });
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn diagnostic(file: SourceFile, at: u32, code: &'static Code) -> Diagnostic {
+        Diagnostic {
+            code,
+            severity: code.severity,
+            file,
+            range: TextRange::at(at.into(), 1.into()),
+            message: format!("{} at {at}", code.id),
+            related: Vec::new(),
+            fix: None,
+        }
+    }
+
+    #[test]
+    fn at_most_max_per_file_errors_first_then_what_is_left_out() {
+        let mut host = crate::AnalysisHost::new();
+        let (a, b) = (host.set_file_text("a.pddl", ""), host.set_file_text("b.pddl", ""));
+        // a: warnings at 0..4, errors at 10..13; b: two infos.
+        let mut all: Vec<Diagnostic> = (0..4).map(|i| diagnostic(a, i, codes::UNUSED)).collect();
+        all.extend((10..13).map(|i| diagnostic(a, i, codes::EXTRA_PAREN)));
+        all.extend((0..2).map(|i| diagnostic(b, i, codes::MISSING_MOVE)));
+        let shown = shown_per_file(&all, 4);
+        let summary: Vec<(SourceFile, &str, u32)> =
+            shown.iter().map(|d| (d.file, d.code.id, u32::from(d.range.start()))).collect();
+        assert_eq!(
+            summary,
+            vec![
+                (a, "W0201", 0),
+                (a, "E0002", 10),
+                (a, "E0002", 11),
+                (a, "E0002", 12),
+                (a, "I0008", 1),
+                (b, "I0308", 0),
+                (b, "I0308", 1),
+            ]
+        );
+        assert_eq!(
+            shown[4].message,
+            "3 more diagnostics in this file not shown (3 warnings), the first of them here: \
+             hipop shows at most 4 per file"
+        );
+        assert_eq!(shown[4].severity, Severity::Info);
+        assert_eq!(shown_per_file(&all, 0), all);
+        assert_eq!(shown_per_file(&all, 7), all);
     }
 }

@@ -17,6 +17,8 @@ pub struct Options {
     pub explain: Option<crate::Explain>,
     /// Apply the fixes of the diagnostics first, then check what remains.
     pub fix: bool,
+    /// At most this many diagnostics are printed per file (0: all).
+    pub max_diagnostics: usize,
 }
 
 /// Checks the files and prints the diagnostics; returns the exit status.
@@ -51,8 +53,13 @@ pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
         }
     }
     let sources = Sources::new(&analysis, &files);
-    let rendered =
-        Rendered { sources: &sources, diagnostics: &diagnostics, io_errors: &io_errors, files: files.len() };
+    let rendered = Rendered {
+        sources: &sources,
+        diagnostics: &diagnostics,
+        io_errors: &io_errors,
+        files: files.len(),
+        max_per_file: options.max_diagnostics,
+    };
     match options.format {
         Format::Human => rendered.human(options.color),
         Format::Json => rendered.json(),

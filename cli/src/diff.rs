@@ -11,7 +11,8 @@ use hipop_analyzer::{AnalysisHost, Diagnostic, Severity, SourceFile};
 use serde_json::{Value, json};
 
 use crate::ColorWhen;
-use crate::render::{Rendered, Sources, color_choice, print_stdout};
+use crate::render::{Rendered, Sources, print_stdout};
+use hipop_analyzer::diagnostic::SHOWN_PER_FILE;
 
 /// How `hipop diff` prints.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -107,9 +108,16 @@ pub fn run(path_a: &Path, path_b: &Path, options: &Options) -> u8 {
     let files: Vec<SourceFile> = [Some(fa), Some(fb), fd].into_iter().flatten().collect();
     let sources = Sources::new(&analysis, &files);
     if !diagnostics.is_empty() {
-        let rendered = Rendered { sources: &sources, diagnostics: &diagnostics, io_errors: &[], files: 2 };
-        let stream = codespan_reporting::term::termcolor::StandardStream::stderr(color_choice(options.color));
-        rendered.emit_human(&mut stream.lock());
+        let rendered = Rendered {
+            sources: &sources,
+            diagnostics: &diagnostics,
+            io_errors: &[],
+            files: 2,
+            max_per_file: SHOWN_PER_FILE,
+        };
+        let mut stream = crate::render::stderr(options.color);
+        rendered.emit_human(&mut stream);
+        let _ = std::io::Write::flush(&mut stream);
     }
     if diagnostics.iter().any(|d: &Diagnostic| d.severity == Severity::Error) {
         eprintln!("error: the plans cannot be compared: fix the errors above");

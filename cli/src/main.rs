@@ -311,6 +311,11 @@ struct CheckArgs {
     /// already applied are skipped (run again to apply them).
     #[arg(long)]
     fix: bool,
+    /// Print at most this many diagnostics per file, errors first, then one
+    /// (I0008) saying how many more there are; 0 prints them all. The
+    /// summary and the exit status count them all.
+    #[arg(long, value_name = "N", default_value_t = hipop_analyzer::diagnostic::SHOWN_PER_FILE)]
+    max_diagnostics: usize,
 }
 
 /// How diagnostics are printed.
@@ -373,6 +378,7 @@ fn main() -> ExitCode {
                 triangle_tolerance: args.triangle_tolerance,
                 explain: args.explain,
                 fix: args.fix,
+                max_diagnostics: args.max_diagnostics,
             };
             ExitCode::from(check::run(&args.paths, &options))
         }

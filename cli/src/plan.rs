@@ -12,6 +12,7 @@ use serde_json::json;
 
 use crate::ColorWhen;
 use crate::render::{Rendered, Sources, print_stdout};
+use hipop_analyzer::diagnostic::SHOWN_PER_FILE;
 
 /// How the plan is written.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -72,11 +73,16 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
     }
     let sources = Sources::new(&analysis, &files);
     let emit = |diagnostics: &[hipop_analyzer::Diagnostic]| {
-        let rendered = Rendered { sources: &sources, diagnostics, io_errors: &[], files: 2 };
-        let stream = codespan_reporting::term::termcolor::StandardStream::stderr(
-            crate::render::color_choice(options.color),
-        );
-        rendered.emit_human(&mut stream.lock());
+        let rendered = Rendered {
+            sources: &sources,
+            diagnostics,
+            io_errors: &[],
+            files: 2,
+            max_per_file: SHOWN_PER_FILE,
+        };
+        let mut stream = crate::render::stderr(options.color);
+        rendered.emit_human(&mut stream);
+        let _ = std::io::Write::flush(&mut stream);
     };
     if !model.is_empty() {
         emit(&model);
@@ -202,6 +208,7 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
                     diagnostics: &result.diagnostics,
                     io_errors: &[],
                     files: 2,
+                    max_per_file: SHOWN_PER_FILE,
                 };
                 let doc = json!({
                     "status": match status {

@@ -7,19 +7,25 @@ use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label, Severity
 use codespan_reporting::files::SimpleFiles;
 use codespan_reporting::term::{
     self,
-    termcolor::{ColorChoice, StandardStream},
+    termcolor::{BufferedStandardStream, ColorChoice},
 };
+use hipop_analyzer::diagnostic::shown_per_file;
 use hipop_analyzer::{Analysis, Diagnostic, Severity, SourceFile, TextRange, codes};
 use serde_json::{Value, json};
 
 use crate::ColorWhen;
 
-/// The texts of the files, with line starts for line/column conversion.
+/// The texts of the files, with what converts a byte offset to a line and
+/// column in logarithmic time (a file of one long line may have thousands of
+/// diagnostics).
 pub struct Sources {
     files: SimpleFiles<String, std::sync::Arc<str>>,
     ids: HashMap<SourceFile, usize>,
     paths: Vec<String>,
     line_starts: Vec<Vec<usize>>,
+    /// Per file, the start of each character of more than one byte, with the
+    /// extra bytes of those up to and including it (empty for ASCII text).
+    wide: Vec<Vec<(usize, usize)>>,
 }
 
 impl Sources {
@@ -29,14 +35,24 @@ impl Sources {
             ids: HashMap::new(),
             paths: Vec::new(),
             line_starts: Vec::new(),
+            wide: Vec::new(),
         };
         for &f in files {
             let (Ok(path), Ok(text)) = (analysis.file_path(f), analysis.file_text(f)) else { continue };
             let starts = std::iter::once(0).chain(text.match_indices('\n').map(|(i, _)| i + 1)).collect();
+            let mut wide = Vec::new();
+            if !text.is_ascii() {
+                let mut extra = 0;
+                for (i, c) in text.char_indices().filter(|(_, c)| !c.is_ascii()) {
+                    extra += c.len_utf8() - 1;
+                    wide.push((i, extra));
+                }
+            }
             let id = s.files.add(path.clone(), text);
             s.ids.insert(f, id);
             s.paths.push(path);
             s.line_starts.push(starts);
+            s.wide.push(wide);
         }
         s
     }
@@ -64,8 +80,16 @@ impl Sources {
         let line = starts.partition_point(|&s| s <= offset).saturating_sub(1);
         let text = self.text(id);
         let offset = offset.min(text.len());
-        let from = if line == 0 { bom_len(text).min(offset) } else { starts[line] };
-        let col = text.get(from..offset).map_or(0, |s| s.chars().count());
+        // The extra bytes of the wide characters that start before `at`.
+        let wide = &self.wide[id];
+        let extra = |at: usize| match wide.partition_point(|&(start, _)| start < at) {
+            0 => 0,
+            n => wide[n - 1].1,
+        };
+        let col = (offset - starts[line]).saturating_sub(extra(offset) - extra(starts[line]));
+        // A byte-order mark is not a column.
+        let bom = bom_len(text);
+        let col = if line == 0 && bom > 0 && offset >= bom { col - 1 } else { col };
         (line + 1, col + 1)
     }
 }
@@ -119,12 +143,21 @@ impl<'a> codespan_reporting::files::Files<'a> for Columns<'_> {
 
 pub struct Rendered<'a> {
     pub sources: &'a Sources,
+    /// Every diagnostic: the summary counts them all.
     pub diagnostics: &'a [Diagnostic],
     pub io_errors: &'a [(String, String)],
     pub files: usize,
+    /// At most this many diagnostics are printed per file (0: all), then one
+    /// I0008 saying how many more there are (`diagnostic::shown_per_file`).
+    pub max_per_file: usize,
 }
 
 impl Rendered<'_> {
+    /// What is printed of the diagnostics.
+    fn shown(&self) -> Vec<Diagnostic> {
+        shown_per_file(self.diagnostics, self.max_per_file)
+    }
+
     fn path(&self, file: SourceFile) -> String {
         self.sources.path(file)
     }
@@ -136,8 +169,7 @@ impl Rendered<'_> {
     }
 
     pub fn human(&self, color: ColorWhen) {
-        let stream = StandardStream::stderr(color_choice(color));
-        let mut out = stream.lock();
+        let mut out = stderr(color);
         self.emit_human(&mut out);
         let (e, w) = self.counts();
         let plural = |n: usize| if n == 1 { "" } else { "s" };
@@ -162,6 +194,7 @@ impl Rendered<'_> {
                 plural(w)
             )
         };
+        let _ = out.flush();
     }
 
     /// The I/O errors and diagnostics, compiler-style, without the summary line.
@@ -170,7 +203,7 @@ impl Rendered<'_> {
         for (path, message) in self.io_errors {
             let _ = writeln!(out, "error: {path}: {message}");
         }
-        for d in self.diagnostics {
+        for d in &self.shown() {
             if let Some(cs) = self.to_codespan(d) {
                 let _ = term::emit_to_write_style(out, &config, &Columns(&self.sources.files), &cs);
             }
@@ -228,7 +261,7 @@ impl Rendered<'_> {
 
     /// Each diagnostic as JSON (the `diagnostics` of `--format json`, docs/cli.md).
     pub fn json_diagnostics(&self) -> Vec<Value> {
-        self.diagnostics
+        self.shown()
             .iter()
             .map(|d| {
                 json!({
@@ -277,7 +310,7 @@ impl Rendered<'_> {
             })
             .collect();
         let results: Vec<Value> = self
-            .diagnostics
+            .shown()
             .iter()
             .map(|d| {
                 let rule_index = codes::ALL.iter().position(|c| c.id == d.code.id).unwrap_or(0);
@@ -331,7 +364,7 @@ impl Rendered<'_> {
                 escape_data(message)
             ));
         }
-        for d in self.diagnostics {
+        for d in &self.shown() {
             let path = self.path(d.file);
             let level = match d.severity {
                 Severity::Error => "error",
@@ -350,6 +383,13 @@ impl Rendered<'_> {
         }
         print_stdout(out.trim_end_matches('\n'));
     }
+}
+
+/// Standard error for diagnostics, buffered: the renderer writes a source
+/// line and its carets a character at a time. Flush it before writing to
+/// standard error otherwise.
+pub fn stderr(color: ColorWhen) -> BufferedStandardStream {
+    BufferedStandardStream::stderr(color_choice(color))
 }
 
 /// Colours on stderr: `auto` means when it is a terminal.

@@ -11,6 +11,7 @@ use serde_json::{Value, json};
 
 use crate::render::{Rendered, Sources, print_stdout};
 use crate::{ColorWhen, Format};
+use hipop_analyzer::diagnostic::SHOWN_PER_FILE;
 
 /// Which verdict a run expects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -105,11 +106,16 @@ pub fn run(domain: &Path, problem: &Path, plans: &[PathBuf], options: &Options) 
     let model_files = [fd, fp];
     if !model.is_empty() {
         let sources = Sources::new(&analysis, &model_files);
-        let rendered = Rendered { sources: &sources, diagnostics: &model, io_errors: &[], files: 2 };
-        let stream = codespan_reporting::term::termcolor::StandardStream::stderr(
-            crate::render::color_choice(options.color),
-        );
-        rendered.emit_human(&mut stream.lock());
+        let rendered = Rendered {
+            sources: &sources,
+            diagnostics: &model,
+            io_errors: &[],
+            files: 2,
+            max_per_file: SHOWN_PER_FILE,
+        };
+        let mut stream = crate::render::stderr(options.color);
+        rendered.emit_human(&mut stream);
+        let _ = std::io::Write::flush(&mut stream);
         eprintln!("error: the domain or the problem has errors: fix them before validating plans");
         return 2;
     }
@@ -161,14 +167,18 @@ pub fn run(domain: &Path, problem: &Path, plans: &[PathBuf], options: &Options) 
     let sources = Sources::new(&analysis, &files);
     let plan_io: Vec<(String, String)> =
         results.iter().filter_map(|r| r.io_error.clone().map(|m| (r.path.clone(), m))).collect();
-    let rendered =
-        Rendered { sources: &sources, diagnostics: &diagnostics, io_errors: &plan_io, files: plans.len() };
+    let rendered = Rendered {
+        sources: &sources,
+        diagnostics: &diagnostics,
+        io_errors: &plan_io,
+        files: plans.len(),
+        max_per_file: SHOWN_PER_FILE,
+    };
     match options.format {
         Format::Human => {
-            let stream = codespan_reporting::term::termcolor::StandardStream::stderr(
-                crate::render::color_choice(options.color),
-            );
-            rendered.emit_human(&mut stream.lock());
+            let mut stream = crate::render::stderr(options.color);
+            rendered.emit_human(&mut stream);
+            let _ = std::io::Write::flush(&mut stream);
             for r in &results {
                 eprintln!("{}", summary_line(r, options.expect));
             }

@@ -988,3 +988,61 @@ fn a_run_of_extra_parens_is_one_diagnostic() {
         &err[err.len().saturating_sub(300)..]
     );
 }
+
+/// At most 200 diagnostics per file are printed (`--max-diagnostics`), errors
+/// first, then one I0008 with how many more; the summary counts them all.
+#[test]
+fn at_most_max_diagnostics_per_file_are_printed() {
+    // 1000 extra `)` that no run joins (an atom between), and the atoms: 1001 errors.
+    let text = ") x".repeat(1000);
+    let (codes, doc, o) = check_generated("many", &text, &[]);
+    assert_eq!(status(&o), 1);
+    assert_eq!(codes.len(), 201);
+    assert!(codes[..200].iter().all(|c| c == "E0002" || c == "E0003"), "{codes:?}");
+    assert_eq!(codes[200], "I0008");
+    assert_eq!(
+        doc["diagnostics"][200]["message"],
+        "801 more diagnostics in this file not shown (801 errors), the first of them here: hipop shows at most 200 per file"
+    );
+    assert_eq!(doc["summary"]["errors"], 1001);
+
+    let (codes, _, _) = check_generated("many", &text, &["--max-diagnostics", "3"]);
+    assert_eq!(codes, ["E0002", "E0003", "E0002", "I0008"]);
+    let (codes, _, _) = check_generated("many", &text, &["--max-diagnostics", "0"]);
+    assert_eq!(codes.len(), 1001);
+
+    let o = hipop(&[
+        "check",
+        "tests/limits/five-undefined-predicates.pddl",
+        "--max-diagnostics",
+        "2",
+        "--color",
+        "never",
+    ]);
+    assert_eq!(status(&o), 1);
+    let err = stderr(&o);
+    assert_eq!(err.matches("error[E0102]").count(), 2, "{err}");
+    assert!(
+        err.contains("note[I0008]: 4 more diagnostics in this file not shown (3 errors, 1 warning)"),
+        "{err}"
+    );
+    assert!(err.ends_with("checked 1 file: 5 errors, 1 warning\n"), "{err}");
+}
+
+/// Columns count characters, not bytes, after characters of two and four bytes.
+#[test]
+fn columns_count_characters() {
+    let line =
+        "  (:action a :parameters (?x) :precondition (and (p ?x) (é ?x) (😀 ?x) (q ?x)) :effect (p ?x)))";
+    let text = format!("(define (domain d) (:predicates (p ?x)) ; ö ü\n{line}\n");
+    let (codes, doc, _) = check_generated("columns", &text, &[]);
+    assert_eq!(codes, ["E0102", "E0102", "E0102"]);
+    for (d, name) in doc["diagnostics"].as_array().expect("diagnostics").iter().zip(["é", "😀", "q"]) {
+        let byte = line.find(&format!("({name} ")).expect("the name") + 1;
+        let column = line[..byte].chars().count() as u64 + 1;
+        let location = &d["location"];
+        assert_eq!(location["start"]["line"], 2);
+        assert_eq!(location["start"]["column"].as_u64(), Some(column), "{name}");
+        assert_eq!(location["end"]["column"].as_u64(), Some(column + 1), "{name}");
+    }
+}

@@ -17,6 +17,8 @@
 use std::sync::Arc;
 use std::time::Duration;
 
+use hipop_analyzer::Diagnostic;
+use hipop_analyzer::diagnostic::{SHOWN_PER_FILE, shown_per_file};
 use tokio::sync::Mutex;
 use tower_lsp_server::Client;
 use tower_lsp_server::ls_types::{self as lsp, MessageType, Uri};
@@ -131,8 +133,9 @@ async fn deliver(client: &Client, session: &Arc<Mutex<Session>>, generation: u64
 
 type Batch = Vec<(Uri, i32, Vec<lsp::Diagnostic>)>;
 
-/// The diagnostics of every document of the job; `None` if cancelled. A
-/// document whose analysis panics is left out rather than failing the batch.
+/// The diagnostics of every document of the job (at most [`SHOWN_PER_FILE`]
+/// each, then how many more); `None` if cancelled. A document whose analysis
+/// panics is left out rather than failing the batch.
 fn compute(job: DiagnosticsJob, phase: Phase) -> Option<Batch> {
     let mut batch = Vec::new();
     let mut files = Files::new(&job.analysis, &job.open, job.encoding, &job.indexes);
@@ -142,7 +145,8 @@ fn compute(job: DiagnosticsJob, phase: Phase) -> Option<Batch> {
                 Phase::Checks => job.analysis.check_diagnostics(*file)?,
                 Phase::All => job.analysis.diagnostics(*file)?,
             };
-            diags.iter().filter(|d| d.file == *file).map(|d| convert::diagnostic(d, &mut files)).collect()
+            let mine: Vec<Diagnostic> = diags.into_iter().filter(|d| d.file == *file).collect();
+            shown_per_file(&mine, SHOWN_PER_FILE).iter().map(|d| convert::diagnostic(d, &mut files)).collect()
         });
         match one {
             Outcome::Done(diags) => batch.push((uri.clone(), *version, diags)),

@@ -528,3 +528,55 @@ fn workspace_symbols_cover_files_not_open() {
     }
     client.shutdown();
 }
+
+/// Hostile documents: a million nested lists, a million `(`, 200,000 `)`,
+/// a thousand errors. The server publishes a few located diagnostics for
+/// each (lists deeper than 256 are kept as text, runs of one error are one
+/// diagnostic, at most 200 per document), and keeps answering.
+#[test]
+fn hostile_documents_leave_the_server_answering() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    let uri = |name: &str| file_uri(&fixture(&format!("blocks/{name}")));
+
+    let n = 1_000_000;
+    let deep = format!(
+        "(define (domain deep) (:predicates (p ?x))\n  (:action a :parameters (?x) :precondition {}(p ?x){} :effect (p ?x)))\n",
+        "(and ".repeat(n),
+        ")".repeat(n)
+    );
+    client.open(&uri("deep.pddl"), &deep);
+    let diags = client.diagnostics(&uri("deep.pddl"), Some(1));
+    assert_eq!(codes(&diags), ["E0007"]);
+    // The `(and` inside 256 lists: define, action, and 254 `(and` from column 44.
+    assert_eq!(diags[0]["range"]["start"], json!({"line": 1, "character": 44 + 5 * 254}));
+    // The effect's `p`, after the million lists kept as text.
+    let effect = deep.rfind("(p ?x)))").expect("the effect") + 1;
+    let column = (effect - deep.find('\n').expect("two lines") - 1) as u32;
+    let hover = client.request("textDocument/hover", at(&uri("deep.pddl"), 1, column));
+    let markdown = hover["contents"]["value"].as_str().expect("markdown hover");
+    assert!(markdown.contains("predicate (p ?x)"), "{markdown}");
+    // An edit next to the deepest list read still re-checks.
+    client.change(&uri("deep.pddl"), 2, range(1, column, 1, column + 1), "q");
+    // `q` is undefined, and `p` unused now: the precondition is kept as text.
+    assert_eq!(codes(&client.diagnostics(&uri("deep.pddl"), Some(2))), ["W0201", "E0007", "E0102"]);
+
+    client.open(&uri("open.pddl"), &"(".repeat(n));
+    assert_eq!(codes(&client.diagnostics(&uri("open.pddl"), Some(1))), ["E0003", "E0007", "E0001"]);
+
+    client.open(&uri("close.pddl"), &")".repeat(200_000));
+    let diags = client.diagnostics(&uri("close.pddl"), Some(1));
+    assert_eq!(codes(&diags), ["E0002"]);
+    assert_eq!(diags[0]["range"], range(0, 0, 0, 200_000));
+
+    client.open(&uri("many.pddl"), &") x".repeat(1000));
+    let diags = client.diagnostics(&uri("many.pddl"), Some(1));
+    assert_eq!(diags.len(), 201);
+    assert_eq!(diags[200]["code"], "I0008");
+    assert_eq!(diags[200]["severity"], 3);
+
+    let symbols =
+        client.request("textDocument/documentSymbol", json!({"textDocument": {"uri": uri("deep.pddl")}}));
+    assert_eq!(symbols[0]["name"], "deep");
+    client.shutdown();
+}
