@@ -116,7 +116,9 @@ pub fn lex_parallel(text: &str) -> Tokens {
     if text.len() < PARALLEL_FROM_BYTES {
         return lex(text);
     }
-    let Some(split) = text[text.len() / 2..].find('\n').map(|i| text.len() / 2 + i + 1) else {
+    // Bytes, not `str`: the middle may fall inside a multi-byte character.
+    let half = text.len() / 2;
+    let Some(split) = text.as_bytes()[half..].iter().position(|&b| b == b'\n').map(|i| half + i + 1) else {
         return lex(text);
     };
     let (a, b) = text.split_at(split);

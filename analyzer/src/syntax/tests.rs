@@ -143,6 +143,15 @@ fn kinds(p: &Parse) -> Vec<SyntaxErrorKind> {
 }
 
 #[test]
+fn a_large_text_with_a_wide_character_in_its_middle_is_lexed() {
+    // Lexed on two threads from 64 KiB: the middle byte is inside a `😀`.
+    let text = format!("{}😀\n{}", "a".repeat(35_000), "b".repeat(35_000));
+    assert!(!text.is_char_boundary(text.len() / 2));
+    assert_eq!(super::lexer::lex_parallel(&text), super::lexer::lex(&text));
+    assert_eq!(parse(&text).text(), text);
+}
+
+#[test]
 fn lists_deeper_than_the_limit_are_kept_as_text() {
     // `(p)` is the deepest list, at `depth`.
     let nested = |depth: usize| format!("{}(p){}", "(and ".repeat(depth - 1), ")".repeat(depth - 1));
