@@ -1,6 +1,7 @@
 //! The parser and the analysis never panic, whatever the input: random bytes,
-//! and random mutations of real files; and incremental re-parsing after an
-//! edit gives exactly what parsing from scratch gives.
+//! long runs of one character and deep nesting, and random mutations of real
+//! files (among them runs and deep nesting); and incremental re-parsing after
+//! an edit gives exactly what parsing from scratch gives.
 
 use std::path::Path;
 
@@ -57,18 +58,62 @@ const PIECES: &[&str] = &[
     "0.5",
 ];
 
+/// Characters of long runs: parentheses, comments, quotes, signs, digits, a
+/// two-byte and a four-byte character, spaces and line breaks.
+const RUN_CHARS: &[char] = &['(', ')', ';', '"', '-', '7', '.', 'é', '😀', ' ', '\n', '\r', '?', ':'];
+
+/// A run of `n` times one of [`RUN_CHARS`], or `n` nested lists with a head
+/// (closed or not): what hostile or generated files are made of. The depths
+/// go past `syntax::MAX_NESTING` (256).
+#[derive(Debug, Clone)]
+enum Hostile {
+    Run(usize, usize),
+    Nest { depth: usize, head: usize, closed: bool },
+}
+
+impl Hostile {
+    fn text(&self) -> String {
+        match *self {
+            Hostile::Run(c, n) => RUN_CHARS[c].to_string().repeat(n),
+            Hostile::Nest { depth, head, closed } => {
+                let head = ["and ", "not ", "or ", "", ":action ", "forall (?x) ", "+ 1 "][head];
+                let mut s = format!("({head}").repeat(depth);
+                s.push_str("(p ?x)");
+                if closed {
+                    s.push_str(&")".repeat(depth));
+                }
+                s
+            }
+        }
+    }
+}
+
+fn hostile() -> impl Strategy<Value = Hostile> {
+    prop_oneof![
+        (0..RUN_CHARS.len(), prop_oneof![1usize..300, 1usize..20_000]).prop_map(|(c, n)| Hostile::Run(c, n)),
+        (prop_oneof![1usize..300, 250usize..262, 1usize..5_000], 0usize..7, any::<bool>())
+            .prop_map(|(depth, head, closed)| Hostile::Nest { depth, head, closed }),
+    ]
+}
+
 #[derive(Debug, Clone)]
 enum Mutation {
     Delete(usize, usize),
     Insert(usize, usize),
     Duplicate(usize, usize, usize),
+    InsertHostile(usize, Hostile),
+    /// Wraps the text between two offsets in this many lists.
+    Wrap(usize, usize, usize),
 }
 
 fn mutation() -> impl Strategy<Value = Mutation> {
     prop_oneof![
-        (any::<usize>(), 0usize..40).prop_map(|(a, n)| Mutation::Delete(a, n)),
-        (any::<usize>(), 0..PIECES.len()).prop_map(|(a, p)| Mutation::Insert(a, p)),
-        (any::<usize>(), 0usize..200, any::<usize>()).prop_map(|(a, n, b)| Mutation::Duplicate(a, n, b)),
+        4 => (any::<usize>(), 0usize..40).prop_map(|(a, n)| Mutation::Delete(a, n)),
+        4 => (any::<usize>(), 0..PIECES.len()).prop_map(|(a, p)| Mutation::Insert(a, p)),
+        4 => (any::<usize>(), 0usize..200, any::<usize>()).prop_map(|(a, n, b)| Mutation::Duplicate(a, n, b)),
+        1 => (any::<usize>(), hostile()).prop_map(|(a, h)| Mutation::InsertHostile(a, h)),
+        1 => (any::<usize>(), 0usize..400, prop_oneof![1usize..20, 250usize..300])
+            .prop_map(|(a, n, k)| Mutation::Wrap(a, n, k)),
     ]
 }
 
@@ -80,8 +125,26 @@ fn boundary(text: &str, mut at: usize) -> usize {
     at
 }
 
-/// The edit a mutation makes, as a range of the text and its replacement.
-fn as_edit(text: &str, m: &Mutation) -> TextEdit {
+/// The edits a mutation makes, in order: ranges of the text each leaves and
+/// their replacements.
+fn as_edits(text: &str, m: &Mutation) -> Vec<TextEdit> {
+    let edit = |start: usize, end: usize, insert: String| TextEdit {
+        range: TextRange::new(TextSize::from(start as u32), TextSize::from(end as u32)),
+        insert,
+    };
+    match m {
+        Mutation::InsertHostile(a, h) => {
+            let s = boundary(text, *a);
+            return vec![edit(s, s, h.text())];
+        }
+        &Mutation::Wrap(a, n, k) => {
+            let s = boundary(text, a);
+            let e = boundary(text, s + n.min(text.len() - s));
+            // The `)` first: inserting the `(` would move it.
+            return vec![edit(e, e, ")".repeat(k)), edit(s, s, "(".repeat(k))];
+        }
+        _ => {}
+    }
     let (start, end, insert) = match *m {
         Mutation::Delete(a, n) => {
             let s = boundary(text, a);
@@ -97,8 +160,9 @@ fn as_edit(text: &str, m: &Mutation) -> TextEdit {
             let at = boundary(text, b);
             (at, at, text[s..e].to_string())
         }
+        Mutation::InsertHostile(..) | Mutation::Wrap(..) => unreachable!("handled above"),
     };
-    TextEdit { range: TextRange::new(TextSize::from(start as u32), TextSize::from(end as u32)), insert }
+    vec![edit(start, end, insert)]
 }
 
 proptest! {
@@ -116,6 +180,29 @@ proptest! {
     }
 
     #[test]
+    fn runs_and_deep_nesting_never_panic(
+        parts in proptest::collection::vec(prop_oneof![
+            2 => hostile().prop_map(|h| h.text()),
+            1 => "[() ;:?a-z\n-]{0,40}",
+        ], 1..6),
+        probes in proptest::collection::vec(any::<usize>(), 3),
+    ) {
+        let text: String = parts.concat();
+        let parse = syntax::parse(&text);
+        prop_assert_eq!(parse.text(), text.clone());
+        let mut host = AnalysisHost::new();
+        let f = host.set_file_text("x.hddl", text.clone());
+        let a = host.analysis();
+        a.diagnostics(f).unwrap();
+        a.document_symbols(f).unwrap();
+        for p in probes {
+            let at = TextSize::from(boundary(&text, p) as u32);
+            a.hover(f, at).unwrap();
+            a.references(f, at, true).unwrap();
+        }
+    }
+
+    #[test]
     fn mutated_real_files_never_panic_and_reparse_exactly(
         seed in 0usize..64,
         mutations in proptest::collection::vec(mutation(), 1..6),
@@ -128,9 +215,9 @@ proptest! {
         incremental.analysis().diagnostics(f).unwrap();
         let mut text = original.clone();
         for m in &mutations {
-            let edit = as_edit(&text, m);
-            edit.apply(&mut text);
-            incremental.apply_edits("d.hddl", vec![edit]).unwrap();
+            let edits = as_edits(&text, m);
+            edits.iter().for_each(|e| e.apply(&mut text));
+            incremental.apply_edits("d.hddl", edits).unwrap();
         }
         prop_assert_eq!(syntax::parse(&text).text(), text.clone());
         let mut scratch = AnalysisHost::new();
