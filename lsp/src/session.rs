@@ -374,3 +374,111 @@ impl Session {
         self.published.clear();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use hipop_analyzer::{Analysis, AnalysisHost, TextRange};
+    use proptest::prelude::*;
+    use tower_lsp_server::ls_types::{Position, Range};
+
+    use super::*;
+
+    /// What is inserted: keystrokes, keywords, and what hostile or generated
+    /// files are made of: long runs of one character and deep nesting (past
+    /// the parser's limit of 256).
+    fn pieces() -> Vec<String> {
+        let mut p: Vec<String> = [
+            "(",
+            ")",
+            " ",
+            "\n",
+            "\r\n",
+            ";",
+            "é",
+            "😀",
+            ":effect",
+            "(and ",
+            "?x",
+            "(:action b",
+            "\"",
+            "-",
+            "7",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        p.extend(["(", ")", ";", "\"", "-", "7", "é", "😀", "\n"].iter().map(|c| c.repeat(1500)));
+        p.extend(["(and ", "(not ", "(", "(forall (?y) "].iter().map(|h| h.repeat(300)));
+        p.push(format!("{}(p ?x){}", "(and ".repeat(400), ")".repeat(400)));
+        // Nested up to the limit inside an action's formula, and small lists
+        // that, inserted in its deepest list, are one level too deep.
+        p.push(format!("{}(p ?x){}", "(and ".repeat(253), ")".repeat(253)));
+        p.extend(["(a)", " (q ?x)", "((a))"].iter().map(|s| s.to_string()));
+        p
+    }
+
+    fn seeds() -> Vec<String> {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        ["samples/rover-mission/domain.hddl", "samples/transport-htn/domain.hddl"]
+            .iter()
+            .map(|rel| std::fs::read_to_string(root.join(rel)).expect("a sample"))
+            .collect()
+    }
+
+    /// A content change: a range (possibly past the end, reversed, or inside
+    /// a character of two UTF-16 units) replaced by a piece, or now and then
+    /// the whole text.
+    fn change(pieces: usize) -> impl Strategy<Value = TextDocumentContentChangeEvent> {
+        (0u32..80, 0u32..140, 0u32..3, 0u32..140, 0..pieces, 0u32..30).prop_map(
+            move |(line, character, lines, end_character, piece, whole)| TextDocumentContentChangeEvent {
+                range: (whole != 0).then(|| {
+                    Range::new(Position::new(line, character), Position::new(line + lines, end_character))
+                }),
+                range_length: None,
+                text: pieces_text(piece),
+            },
+        )
+    }
+
+    fn pieces_text(i: usize) -> String {
+        static PIECES: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+        PIECES.get_or_init(pieces)[i].clone()
+    }
+
+    /// A file's diagnostics, as what an editor shows.
+    fn shown(analysis: &Analysis, file: SourceFile) -> Vec<(&'static str, TextRange, String)> {
+        let diagnostics = analysis.diagnostics(file).expect("not cancelled");
+        diagnostics.iter().map(|d| (d.code.id, d.range, d.message.clone())).collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+
+        /// Any sequence of `didChange` batches keeps the analyzer's text equal
+        /// to the document's, and its diagnostics equal to those of a fresh
+        /// analysis of that text (the incremental re-parse is exact), in both
+        /// position encodings.
+        #[test]
+        fn edit_sequences_keep_the_analysis_exact(
+            seed in 0usize..2,
+            batches in proptest::collection::vec(proptest::collection::vec(change(pieces().len()), 1..4), 1..6),
+            utf8 in any::<bool>(),
+        ) {
+            let mut session = Session::default();
+            session.set_client(if utf8 { Encoding::Utf8 } else { Encoding::Utf16 }, false);
+            let uri: Uri = "untitled:domain.hddl".parse().expect("a URI");
+            session.open(uri.clone(), 1, seeds()[seed].clone());
+            for (version, batch) in (2..).zip(batches) {
+                session.change(&uri, version, batch).expect("a newer version");
+                let text = session.docs[&uri].text().to_string();
+                let job = session.diagnostics_job();
+                let (_, _, file) = job.docs[0];
+                prop_assert_eq!(&*job.analysis.file_text(file).expect("not cancelled"), text.as_str());
+                let mut fresh = AnalysisHost::new();
+                let g = fresh.set_file_text("untitled:domain.hddl", text.as_str());
+                prop_assert_eq!(shown(&job.analysis, file), shown(&fresh.analysis(), g));
+                job.analysis.document_symbols(file).expect("not cancelled");
+            }
+        }
+    }
+}

@@ -304,12 +304,19 @@ fn deep_domain(extra: usize) -> String {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(128))]
 
-    // Edits around the limit: one level more or less, in the deepest lists.
+    // Edits around the limit: in the deepest list (where a list inserted is
+    // one too deep) and the lists around it, one level more or less deep.
     #[test]
-    fn reparse_equals_parse_near_the_limit(extra in 0usize..3, back in 0usize..1_600, len in 0usize..6, insert in "[() a?]{0,5}") {
+    fn reparse_equals_parse_near_the_limit(
+        extra in 0usize..3,
+        at in prop_oneof![0usize..7, 0usize..1_600],
+        len in 0usize..4,
+        insert in prop_oneof!["[() a?]{0,5}", Just("(a)".to_string()), Just(" (q ?x)".to_string()), Just("((a))".to_string())],
+    ) {
         let text = deep_domain(extra);
+        // `(p ?x)`, the deepest list.
         let deepest = text.find("(p ?x))").unwrap();
-        let start = deepest.saturating_sub(back % 800) + back / 800 * 6;
+        let start = if at < 7 { deepest + at } else { deepest.saturating_sub(at % 800) + at / 800 * 6 };
         let end = (start + len).min(text.len());
         reparse_matches(&text, start, end, &insert);
     }
