@@ -491,7 +491,7 @@ pub(crate) enum Stop {
 
 type Emit<'e> = dyn FnMut(&[ObjId]) -> ControlFlow<()> + 'e;
 
-impl Search<'_> {
+impl<'a> Search<'a> {
     fn check(&self, c: Check, binding: &[ObjId], key: &mut Vec<u32>) -> bool {
         match c {
             Check::Holds(i) => {
@@ -520,7 +520,7 @@ impl Search<'_> {
         if !plan.start.iter().all(|c| self.check(*c, &binding, &mut key)) {
             return ControlFlow::Continue(());
         }
-        self.search(plan, 0, &mut binding, &mut key, emit)
+        self.search(plan, &mut binding, &mut key, emit)
     }
 
     /// Every binding of a seeded plan that matches its seed to `seed_args`.
@@ -552,51 +552,75 @@ impl Search<'_> {
         if !plan.start.iter().all(|c| self.check(*c, &binding, &mut key)) {
             return ControlFlow::Continue(());
         }
-        self.search(plan, 0, &mut binding, &mut key, emit)
+        self.search(plan, &mut binding, &mut key, emit)
     }
 
+    /// Every binding of the steps of `plan` from the one given, depth first
+    /// with an explicit stack (an operator may have thousands of
+    /// parameters): level `k` tries the candidates of step `k` in order.
     fn search(
         &mut self,
         plan: &Plan,
-        k: usize,
         binding: &mut [ObjId],
         key: &mut Vec<u32>,
         emit: &mut Emit<'_>,
     ) -> ControlFlow<Stop> {
-        let Some(step) = plan.steps.get(k) else {
+        let (spec, indexes) = (self.spec, self.indexes);
+        // The values step `k` may take, given the parameters bound before it.
+        let candidates = |k: usize, binding: &[ObjId], key: &mut Vec<u32>| -> &'a [ObjId] {
+            let step = &plan.steps[k];
+            match step.generator {
+                Some(i) => {
+                    let index = &indexes.list[i];
+                    key.clear();
+                    key.extend(index.key_params.iter().map(|&q| binding[q as usize]));
+                    index.values.get(key.as_slice()).map_or(&[], |v| v.as_slice())
+                }
+                None => &spec.domains[step.param as usize],
+            }
+        };
+        if plan.steps.is_empty() {
             return match emit(binding) {
                 ControlFlow::Continue(()) => ControlFlow::Continue(()),
                 ControlFlow::Break(()) => ControlFlow::Break(Stop::Caller),
             };
-        };
-        let indexes = self.indexes;
-        let candidates: &[ObjId] = match step.generator {
-            Some(i) => {
-                let index = &indexes.list[i];
-                key.clear();
-                key.extend(index.key_params.iter().map(|&q| binding[q as usize]));
-                match index.values.get(key.as_slice()) {
-                    Some(v) => v,
-                    None => return ControlFlow::Continue(()),
+        }
+        // Per level: its candidates and the next one to try.
+        let mut stack: Vec<(&[ObjId], usize)> = Vec::with_capacity(plan.steps.len());
+        stack.push((candidates(0, binding, key), 0));
+        while let Some(&(cands, mut next)) = stack.last() {
+            let k = stack.len() - 1;
+            let step = &plan.steps[k];
+            let fits = &spec.fits[step.param as usize];
+            let mut found = false;
+            while next < cands.len() {
+                let o = cands[next];
+                next += 1;
+                if *self.budget == 0 {
+                    return ControlFlow::Break(Stop::Budget);
+                }
+                *self.budget -= 1;
+                if !fits.get(o as usize).copied().unwrap_or(false) {
+                    continue;
+                }
+                binding[step.param as usize] = o;
+                if step.checks.iter().all(|c| self.check(*c, binding, key)) {
+                    found = true;
+                    break;
                 }
             }
-            None => &self.spec.domains[step.param as usize],
-        };
-        let fits = &self.spec.fits[step.param as usize];
-        for &o in candidates {
-            if *self.budget == 0 {
-                return ControlFlow::Break(Stop::Budget);
-            }
-            *self.budget -= 1;
-            if !fits.get(o as usize).copied().unwrap_or(false) {
-                continue;
-            }
-            binding[step.param as usize] = o;
-            if step.checks.iter().all(|c| self.check(*c, binding, key)) {
-                self.search(plan, k + 1, binding, key, emit)?;
+            stack[k].1 = next;
+            if !found {
+                binding[step.param as usize] = u32::MAX;
+                stack.pop();
+            } else if k + 1 == plan.steps.len() {
+                if emit(binding).is_break() {
+                    return ControlFlow::Break(Stop::Caller);
+                }
+            } else {
+                stack.push((candidates(k + 1, binding, key), 0));
             }
         }
-        binding[step.param as usize] = u32::MAX;
         ControlFlow::Continue(())
     }
 }

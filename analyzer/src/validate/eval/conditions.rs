@@ -8,7 +8,7 @@ use super::{Binding, ErrorKind, Eval, EvalError, Key, Reads, Res, fmt_operands, 
 use crate::model::{CmpOp, Gd, TimeSpec, Typed};
 use crate::semantics::check::gd_span;
 use crate::semantics::symbols::type_set;
-use crate::verify::state::Objects;
+use crate::verify::state::{ObjId, Objects};
 
 /// The conditions of a durative action, or of one of its conditional
 /// effects, by time.
@@ -38,23 +38,46 @@ pub(crate) fn split_timed(g: &Gd) -> TimedParts<'_> {
 }
 
 /// Calls `f` with each binding of `vars` to objects of their types, in
-/// order, until it breaks.
+/// order (the last variable changing fastest), until it breaks. Without
+/// recursion: a quantifier may bind thousands of variables.
 pub(crate) fn for_each_binding<'m>(
     objects: &Objects<'_>,
     vars: &'m [Typed],
     b: &mut Binding<'m>,
     f: &mut dyn FnMut(&mut Binding<'m>) -> Res<ControlFlow<()>>,
 ) -> Res<ControlFlow<()>> {
-    let Some((first, rest)) = vars.split_first() else { return f(b) };
-    for o in objects.of_types(&type_set(&first.ty)) {
-        b.push(&first.name.key, o);
-        let flow = for_each_binding(objects, rest, b, f);
-        b.pop();
-        if flow? == ControlFlow::Break(()) {
-            return Ok(ControlFlow::Break(()));
+    let domains: Vec<Vec<ObjId>> = vars.iter().map(|v| objects.of_types(&type_set(&v.ty))).collect();
+    if domains.iter().any(Vec::is_empty) {
+        return Ok(ControlFlow::Continue(()));
+    }
+    // An odometer: `at[k]` is the object of variable `k`, all of them pushed.
+    let mut at = vec![0usize; vars.len()];
+    for (v, d) in vars.iter().zip(&domains) {
+        b.push(&v.name.key, d[0]);
+    }
+    let pop_all = |b: &mut Binding<'m>| (0..vars.len()).for_each(|_| b.pop());
+    loop {
+        match f(b) {
+            Ok(ControlFlow::Continue(())) => {}
+            done => {
+                pop_all(b);
+                return done;
+            }
+        }
+        // The last variable that has an object left takes the next one; those
+        // after it start again from their first.
+        let Some(k) = (0..vars.len()).rev().find(|&k| at[k] + 1 < domains[k].len()) else {
+            pop_all(b);
+            return Ok(ControlFlow::Continue(()));
+        };
+        (k..vars.len()).for_each(|_| b.pop());
+        at[k] += 1;
+        b.push(&vars[k].name.key, domains[k][at[k]]);
+        for j in k + 1..vars.len() {
+            at[j] = 0;
+            b.push(&vars[j].name.key, domains[j][0]);
         }
     }
-    Ok(ControlFlow::Continue(()))
 }
 
 /// A reason why a condition is false: a literal, a comparison, a quantifier.

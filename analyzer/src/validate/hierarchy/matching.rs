@@ -189,70 +189,134 @@ impl Search<'_, '_> {
         !self.used[j] && (!self.ordered || self.p.preds[j].iter().all(|&q| self.used[q]))
     }
 
-    /// A complete matching from `pos` on.
-    fn full(&mut self, pos: usize) -> Result<bool, Exhausted> {
-        self.tick()?;
-        if pos == self.p.instances.len() {
-            if (self.p.accept)(&self.binding) {
-                let Some(check) = self.p.orderings.filter(|_| self.by_orderings) else { return Ok(true) };
-                self.budget = self.budget.saturating_sub(self.p.patterns.len());
-                let assign: Vec<usize> = self.assign.iter().map(|a| a.unwrap_or(0)).collect();
-                return Ok(check.complete(&assign));
-            }
-            if self.rejected.is_none() && !self.by_orderings {
-                let assign = self.assign.iter().map(|a| a.unwrap_or(0)).collect();
-                self.rejected = Some((assign, self.binding.clone()));
-            }
-            return Ok(false);
-        }
-        for j in 0..self.p.patterns.len() {
-            if !self.available(j) {
-                continue;
-            }
-            let mark = self.binding.len();
-            if self.unify(j, pos) {
-                self.used[j] = true;
-                self.assign[pos] = Some(j);
-                let pruned = self.by_orderings
-                    && self.p.orderings.is_some_and(|check| !check.partial(&self.assign, pos));
-                if !pruned && self.full(pos + 1)? {
-                    return Ok(true);
+    /// A complete matching, depth first without recursion (a decomposition
+    /// may have thousands of subtasks): `levels[pos]` is the next pattern to
+    /// try for the step at `pos` and the binding's length before it. With
+    /// `by_orderings`, only a matching whose orderings hold, pruned by the
+    /// orderings a partial matching already violates.
+    fn full(&mut self) -> Result<bool, Exhausted> {
+        let n = self.p.instances.len();
+        let mut levels: Vec<(usize, usize)> = Vec::new();
+        // Whether the search enters the position `levels.len()` (else it
+        // comes back to the last level, whose choice is undone).
+        let mut entering = true;
+        loop {
+            if entering {
+                self.tick()?;
+                if levels.len() == n {
+                    if (self.p.accept)(&self.binding) {
+                        let Some(check) = self.p.orderings.filter(|_| self.by_orderings) else { return Ok(true) };
+                        self.budget = self.budget.saturating_sub(self.p.patterns.len());
+                        let assign: Vec<usize> = self.assign.iter().map(|a| a.unwrap_or(0)).collect();
+                        if check.complete(&assign) {
+                            return Ok(true);
+                        }
+                    } else if self.rejected.is_none() && !self.by_orderings {
+                        let assign = self.assign.iter().map(|a| a.unwrap_or(0)).collect();
+                        self.rejected = Some((assign, self.binding.clone()));
+                    }
+                    entering = false;
+                } else {
+                    levels.push((0, self.binding.len()));
                 }
-                self.used[j] = false;
-                self.assign[pos] = None;
             }
-            self.binding.truncate(mark);
+            let Some(&(start, mark)) = levels.last() else { return Ok(false) };
+            let pos = levels.len() - 1;
+            if !entering {
+                if let Some(j) = self.assign[pos].take() {
+                    self.used[j] = false;
+                }
+                self.binding.truncate(mark);
+            }
+            let mut chosen = None;
+            for j in start..self.p.patterns.len() {
+                if !self.available(j) {
+                    continue;
+                }
+                if self.unify(j, pos) {
+                    chosen = Some(j);
+                    break;
+                }
+                self.binding.truncate(mark);
+            }
+            match chosen {
+                Some(j) => {
+                    self.used[j] = true;
+                    self.assign[pos] = Some(j);
+                    levels[pos].0 = j + 1;
+                    let pruned = self.by_orderings
+                        && self.p.orderings.is_some_and(|check| !check.partial(&self.assign, pos));
+                    entering = !pruned;
+                }
+                None => {
+                    levels.pop();
+                    entering = false;
+                }
+            }
         }
-        Ok(false)
     }
 
-    /// The largest partial matching from `pos` on, `matched` so far.
-    fn partial(&mut self, pos: usize, matched: usize) -> Result<(), Exhausted> {
-        self.tick()?;
+    /// The largest partial matching, depth first without recursion: each
+    /// step is matched with each pattern left in turn, then left unmatched
+    /// (the last branch: its level is done then).
+    fn partial(&mut self) -> Result<(), Exhausted> {
+        struct Level {
+            pos: usize,
+            matched: usize,
+            /// The next pattern to try, and the binding's length before.
+            next: usize,
+            mark: usize,
+        }
         let n = self.p.instances.len();
-        let best = self.best.as_ref().map_or(0, |b| b.0);
-        if self.best.is_some() && matched + (n - pos) <= best {
-            return Ok(());
-        }
-        if pos == n {
-            self.best = Some((matched, self.assign.clone(), self.binding.clone()));
-            return Ok(());
-        }
-        for j in 0..self.p.patterns.len() {
-            if self.used[j] {
-                continue;
+        let mut levels: Vec<Level> = Vec::new();
+        // The position entered next, with how many steps before it are matched.
+        let mut enter = (0, 0);
+        loop {
+            let (pos, matched) = enter;
+            self.tick()?;
+            let best = self.best.as_ref().map_or(0, |b| b.0);
+            // Whether the search comes back at once (to the last level, whose
+            // choice is undone): no better matching below, or a complete one.
+            let back = if self.best.is_some() && matched + (n - pos) <= best {
+                true
+            } else if pos == n {
+                self.best = Some((matched, self.assign.clone(), self.binding.clone()));
+                true
+            } else {
+                levels.push(Level { pos, matched, next: 0, mark: self.binding.len() });
+                false
+            };
+            let Some(level) = levels.last_mut() else { return Ok(()) };
+            if back {
+                if let Some(j) = self.assign[level.pos].take() {
+                    self.used[j] = false;
+                }
+                self.binding.truncate(level.mark);
             }
-            let mark = self.binding.len();
-            if self.unify(j, pos) {
-                self.used[j] = true;
-                self.assign[pos] = Some(j);
-                self.partial(pos + 1, matched + 1)?;
-                self.used[j] = false;
-                self.assign[pos] = None;
+            let mut chosen = None;
+            for j in level.next..self.p.patterns.len() {
+                if self.used[j] {
+                    continue;
+                }
+                if self.unify(j, level.pos) {
+                    chosen = Some(j);
+                    break;
+                }
+                self.binding.truncate(level.mark);
             }
-            self.binding.truncate(mark);
+            match chosen {
+                Some(j) => {
+                    level.next = j + 1;
+                    self.used[j] = true;
+                    self.assign[level.pos] = Some(j);
+                    enter = (level.pos + 1, level.matched + 1);
+                }
+                None => {
+                    enter = (level.pos + 1, level.matched);
+                    levels.pop();
+                }
+            }
         }
-        self.partial(pos + 1, matched)
     }
 }
 
@@ -289,7 +353,7 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
         reset(s);
         s.by_orderings = true;
         s.budget = BUDGET;
-        let found = s.full(0);
+        let found = s.full();
         s.by_orderings = false;
         match found {
             Ok(true) => {
@@ -301,7 +365,7 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
         }
     };
     if n == k {
-        match s.full(0) {
+        match s.full() {
             Err(Exhausted) => return Outcome::TooComplex,
             Ok(true) => {
                 let (assign, binding, undecided) = settle(&mut s);
@@ -312,7 +376,7 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
         if p.use_order {
             reset(&mut s);
             s.ordered = false;
-            match s.full(0) {
+            match s.full() {
                 Err(Exhausted) => return Outcome::TooComplex,
                 Ok(true) => {
                     let (assign, binding, undecided) = settle(&mut s);
@@ -327,7 +391,7 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
     }
     reset(&mut s);
     s.ordered = false;
-    match s.partial(0, 0) {
+    match s.partial() {
         Err(Exhausted) => Outcome::TooComplex,
         Ok(()) => match s.best {
             Some((_, assign, binding)) => Outcome::Partial { assign, binding },
@@ -670,5 +734,200 @@ mod tests {
             orderings: None,
         };
         assert!(matches!(matching(&p), Outcome::Rejected { .. }));
+    }
+
+    /// The recursive search the iterative one replaced, as a reference.
+    impl Search<'_, '_> {
+        fn full_rec(&mut self, pos: usize) -> Result<bool, Exhausted> {
+            self.tick()?;
+            if pos == self.p.instances.len() {
+                if (self.p.accept)(&self.binding) {
+                    return Ok(true);
+                }
+                if self.rejected.is_none() {
+                    let assign = self.assign.iter().map(|a| a.unwrap_or(0)).collect();
+                    self.rejected = Some((assign, self.binding.clone()));
+                }
+                return Ok(false);
+            }
+            for j in 0..self.p.patterns.len() {
+                if !self.available(j) {
+                    continue;
+                }
+                let mark = self.binding.len();
+                if self.unify(j, pos) {
+                    self.used[j] = true;
+                    self.assign[pos] = Some(j);
+                    if self.full_rec(pos + 1)? {
+                        return Ok(true);
+                    }
+                    self.used[j] = false;
+                    self.assign[pos] = None;
+                }
+                self.binding.truncate(mark);
+            }
+            Ok(false)
+        }
+
+        fn partial_rec(&mut self, pos: usize, matched: usize) -> Result<(), Exhausted> {
+            self.tick()?;
+            let n = self.p.instances.len();
+            let best = self.best.as_ref().map_or(0, |b| b.0);
+            if self.best.is_some() && matched + (n - pos) <= best {
+                return Ok(());
+            }
+            if pos == n {
+                self.best = Some((matched, self.assign.clone(), self.binding.clone()));
+                return Ok(());
+            }
+            for j in 0..self.p.patterns.len() {
+                if self.used[j] {
+                    continue;
+                }
+                let mark = self.binding.len();
+                if self.unify(j, pos) {
+                    self.used[j] = true;
+                    self.assign[pos] = Some(j);
+                    self.partial_rec(pos + 1, matched + 1)?;
+                    self.used[j] = false;
+                    self.assign[pos] = None;
+                }
+                self.binding.truncate(mark);
+            }
+            self.partial_rec(pos + 1, matched)
+        }
+    }
+
+    /// What [`matching`] returns, with the recursive searches and the same
+    /// budget, and the search state at the end (ticks left, best found).
+    fn reference_matching(p: &Problem<'_>) -> (Outcome, usize) {
+        let (n, k) = (p.instances.len(), p.patterns.len());
+        let mut s = Search {
+            p,
+            used: vec![false; k],
+            assign: vec![None; n],
+            binding: p.initial.to_vec(),
+            budget: BUDGET,
+            ordered: p.use_order,
+            rejected: None,
+            best: None,
+        };
+        let done =
+            |s: &Search<'_, '_>| (s.assign.iter().map(|a| a.unwrap_or(0)).collect(), s.binding.clone());
+        let reset = |s: &mut Search<'_, '_>| {
+            s.used.iter_mut().for_each(|u| *u = false);
+            s.assign.iter_mut().for_each(|a| *a = None);
+            s.binding = p.initial.to_vec();
+        };
+        if n == k {
+            match s.full_rec(0) {
+                Err(Exhausted) => return (Outcome::TooComplex, s.budget),
+                Ok(true) => {
+                    let (assign, binding) = done(&s);
+                    return (Outcome::Matched { assign, binding }, s.budget);
+                }
+                Ok(false) => {}
+            }
+            if p.use_order {
+                reset(&mut s);
+                s.ordered = false;
+                match s.full_rec(0) {
+                    Err(Exhausted) => return (Outcome::TooComplex, s.budget),
+                    Ok(true) => {
+                        let (assign, binding) = done(&s);
+                        return (Outcome::Unordered { assign, binding }, s.budget);
+                    }
+                    Ok(false) => {}
+                }
+            }
+            if let Some((assign, binding)) = s.rejected.take() {
+                return (Outcome::Rejected { assign, binding }, s.budget);
+            }
+        }
+        reset(&mut s);
+        s.ordered = false;
+        let outcome = match s.partial_rec(0, 0) {
+            Err(Exhausted) => Outcome::TooComplex,
+            Ok(()) => match s.best {
+                Some((_, assign, binding)) => Outcome::Partial { assign, binding },
+                None => Outcome::Partial { assign: vec![None; n], binding: p.initial.to_vec() },
+            },
+        };
+        (outcome, s.budget)
+    }
+
+    use proptest::prelude::*;
+
+    fn terms(vars: bool) -> impl Strategy<Value = Vec<&'static str>> {
+        let choices: &'static [&'static str] =
+            if vars { &["?x", "?y", "o1", "o2"] } else { &["o1", "o2", "o3"] };
+        proptest::collection::vec(proptest::sample::select(choices), 0..3)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+
+        /// The searches without recursion find what the recursive ones found.
+        #[test]
+        fn the_searches_without_recursion_are_the_recursive_ones(
+            patterns in proptest::collection::vec((proptest::sample::select(&["a", "b"][..]), terms(true)), 0..6),
+            before in proptest::collection::vec(any::<u8>(), 6),
+            steps in proptest::collection::vec((proptest::sample::select(&["a", "b", "c"][..]), terms(false)), 0..6),
+            use_order in any::<bool>(),
+            distinct in any::<bool>(),
+            o3_not_y in any::<bool>(),
+        ) {
+            let pats: Vec<Pattern> = patterns.iter().map(|(n, a)| pat(n, a)).collect();
+            // Pattern j is ordered after the patterns i < j whose bit is set.
+            let preds: Vec<Vec<usize>> =
+                (0..pats.len()).map(|j| (0..j).filter(|&i| before[j] & (1 << i) != 0).collect()).collect();
+            let args: Vec<Vec<Str>> = steps.iter().map(|(_, a)| a.iter().map(|&x| Str::from(x)).collect()).collect();
+            let instances: Vec<Instance<'_>> =
+                steps.iter().zip(&args).map(|((n, _), a)| Instance { name: n, args: a }).collect();
+            let accept = |b: &[Bound]| !distinct || lookup(b, "x").map(|b| &b.value) != lookup(b, "y").map(|b| &b.value);
+            let type_ok = |x: &str, v: &str| !(o3_not_y && x == "y" && v == "o3");
+            let p = Problem {
+                patterns: &pats,
+                preds: &preds,
+                instances: &instances,
+                initial: &[],
+                type_ok: &type_ok,
+                accept: &accept,
+                use_order,
+            };
+            prop_assert_eq!(matching(&p), reference_matching(&p).0);
+        }
+    }
+
+    /// A decomposition of 20,000 subtasks is matched on a small stack (the
+    /// recursive search needed a frame per subtask).
+    #[test]
+    fn thousands_of_subtasks_are_matched_without_recursion() {
+        let n = 20_000;
+        let pats: Vec<Pattern> = (0..n).map(|_| pat("a", &["?x"])).collect();
+        let preds = vec![Vec::new(); n];
+        let args = vec![Str::from("o")];
+        let instances: Vec<Instance<'_>> = (0..n).map(|_| Instance { name: "a", args: &args }).collect();
+        let outcome = std::thread::scope(|scope| {
+            std::thread::Builder::new()
+                .stack_size(256 << 10)
+                .spawn_scoped(scope, || {
+                    let p = Problem {
+                        patterns: &pats,
+                        preds: &preds,
+                        instances: &instances,
+                        initial: &[],
+                        type_ok: &|_, _| true,
+                        accept: &|_| true,
+                        use_order: true,
+                    };
+                    matching(&p)
+                })
+                .expect("a thread")
+                .join()
+                .expect("no stack overflow")
+        });
+        let Outcome::Matched { assign, .. } = outcome else { panic!("{outcome:?}") };
+        assert_eq!(assign, (0..n).collect::<Vec<_>>());
     }
 }

@@ -1,12 +1,17 @@
+//! Hostile input on small stacks.
+//!
 //! Deep nesting: lists nest at most `syntax::MAX_NESTING` deep. A deeper list
 //! is kept as text (one E0007) and the tree never gets deeper, so that every
 //! recursion over the tree and over what is read from it (lowering, checks,
 //! lints, grounding, validation, the planner, the IDE features, comparing and
-//! dropping trees and models) is bounded, whatever the input.
+//! dropping trees and models) is bounded, whatever the input. Each model here
+//! nests one construct as deep as the limit allows, and is analysed on a
+//! thread with half the stack the language server's threads have (2 MiB):
+//! every feature must fit with a margin of two.
 //!
-//! Each model here nests one construct as deep as the limit allows, and is
-//! analysed on a thread with half the stack the language server's threads
-//! have (2 MiB): every feature must fit with a margin of two.
+//! Long lists: what walks the elements of one list (the parameters of an
+//! action, the variables of a quantifier, the subtasks of a decomposition)
+//! does it without recursion.
 
 use hipop_analyzer::planner::{Config, PlannerLimits};
 use hipop_analyzer::syntax::{self, MAX_NESTING};
@@ -276,4 +281,46 @@ fn one_level_deeper_is_a_located_error_per_list() {
             model.name
         );
     }
+}
+
+/// An action of 10,000 parameters and a quantifier of 10,000 variables:
+/// grounding (one step per parameter) and evaluating the quantifier (one
+/// variable after the other) recursed once per element.
+#[test]
+fn long_parameter_and_variable_lists_are_walked_without_recursion() {
+    let n = 10_000;
+    let params: String = (0..n).map(|i| format!(" ?x{i} - thing")).collect();
+    let vars: String = (0..n).map(|i| format!(" ?y{i} - thing")).collect();
+    let domain = format!(
+        "(define (domain long) (:requirements :strips :typing :universal-preconditions)
+  (:types thing)
+  (:predicates (p ?x - thing) (q))
+  (:action a :parameters ({params}) :precondition (and (p ?x0) (forall ({vars}) (p ?y9999))) :effect (q)))
+"
+    );
+    let problem = "(define (problem long-1) (:domain long) (:objects o - thing) (:init (p o)) (:goal (q)))\n";
+    let plan = format!("0: (a{})\n", " o".repeat(n));
+    let (diagnostics, validation) = std::thread::scope(|scope| {
+        std::thread::Builder::new()
+            .stack_size(SMALL_STACK / 2)
+            .spawn_scoped(scope, || {
+                let mut host = AnalysisHost::new();
+                let d = host.set_file_text("long/domain.pddl", domain.as_str());
+                let p = host.set_file_text("long/problem.pddl", problem);
+                let f = host.set_file_text("long/a.plan", plan.as_str());
+                let analysis = host.analysis();
+                let mut diagnostics = analysis.diagnostics(d).expect("not cancelled");
+                diagnostics.extend(analysis.diagnostics(p).expect("not cancelled"));
+                let validation = analysis
+                    .validate_plan(f, None, p, &Options::default())
+                    .expect("not cancelled")
+                    .expect("a problem");
+                (codes_of(&diagnostics), (validation.checked, validation.valid))
+            })
+            .expect("a thread")
+            .join()
+            .expect("no stack overflow")
+    });
+    assert_eq!(diagnostics, Vec::<&str>::new());
+    assert_eq!(validation, (true, true));
 }
