@@ -205,7 +205,9 @@ impl Search<'_, '_> {
                 self.tick()?;
                 if levels.len() == n {
                     if (self.p.accept)(&self.binding) {
-                        let Some(check) = self.p.orderings.filter(|_| self.by_orderings) else { return Ok(true) };
+                        let Some(check) = self.p.orderings.filter(|_| self.by_orderings) else {
+                            return Ok(true);
+                        };
                         self.budget = self.budget.saturating_sub(self.p.patterns.len());
                         let assign: Vec<usize> = self.assign.iter().map(|a| a.unwrap_or(0)).collect();
                         if check.complete(&assign) {
@@ -322,6 +324,16 @@ impl Search<'_, '_> {
 
 /// Matches the steps with the patterns.
 pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
+    matching_by(p, |s| s.full(), |s| s.partial())
+}
+
+/// [`matching`], with the searches for a complete and for the largest
+/// partial matching given (the tests compare them with recursive ones).
+fn matching_by(
+    p: &Problem<'_>,
+    full: fn(&mut Search<'_, '_>) -> Result<bool, Exhausted>,
+    partial: fn(&mut Search<'_, '_>) -> Result<(), Exhausted>,
+) -> Outcome {
     let (n, k) = (p.instances.len(), p.patterns.len());
     let mut s = Search {
         p,
@@ -353,7 +365,7 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
         reset(s);
         s.by_orderings = true;
         s.budget = BUDGET;
-        let found = s.full();
+        let found = full(s);
         s.by_orderings = false;
         match found {
             Ok(true) => {
@@ -365,7 +377,7 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
         }
     };
     if n == k {
-        match s.full() {
+        match full(&mut s) {
             Err(Exhausted) => return Outcome::TooComplex,
             Ok(true) => {
                 let (assign, binding, undecided) = settle(&mut s);
@@ -376,7 +388,7 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
         if p.use_order {
             reset(&mut s);
             s.ordered = false;
-            match s.full() {
+            match full(&mut s) {
                 Err(Exhausted) => return Outcome::TooComplex,
                 Ok(true) => {
                     let (assign, binding, undecided) = settle(&mut s);
@@ -391,7 +403,7 @@ pub(crate) fn matching(p: &Problem<'_>) -> Outcome {
     }
     reset(&mut s);
     s.ordered = false;
-    match s.partial() {
+    match partial(&mut s) {
         Err(Exhausted) => Outcome::TooComplex,
         Ok(()) => match s.best {
             Some((_, assign, binding)) => Outcome::Partial { assign, binding },
@@ -736,15 +748,18 @@ mod tests {
         assert!(matches!(matching(&p), Outcome::Rejected { .. }));
     }
 
-    /// The recursive search the iterative one replaced, as a reference.
+    /// The recursive searches the iterative ones replaced, as a reference.
     impl Search<'_, '_> {
         fn full_rec(&mut self, pos: usize) -> Result<bool, Exhausted> {
             self.tick()?;
             if pos == self.p.instances.len() {
                 if (self.p.accept)(&self.binding) {
-                    return Ok(true);
+                    let Some(check) = self.p.orderings.filter(|_| self.by_orderings) else { return Ok(true) };
+                    self.budget = self.budget.saturating_sub(self.p.patterns.len());
+                    let assign: Vec<usize> = self.assign.iter().map(|a| a.unwrap_or(0)).collect();
+                    return Ok(check.complete(&assign));
                 }
-                if self.rejected.is_none() {
+                if self.rejected.is_none() && !self.by_orderings {
                     let assign = self.assign.iter().map(|a| a.unwrap_or(0)).collect();
                     self.rejected = Some((assign, self.binding.clone()));
                 }
@@ -758,7 +773,9 @@ mod tests {
                 if self.unify(j, pos) {
                     self.used[j] = true;
                     self.assign[pos] = Some(j);
-                    if self.full_rec(pos + 1)? {
+                    let pruned = self.by_orderings
+                        && self.p.orderings.is_some_and(|check| !check.partial(&self.assign, pos));
+                    if !pruned && self.full_rec(pos + 1)? {
                         return Ok(true);
                     }
                     self.used[j] = false;
@@ -798,62 +815,24 @@ mod tests {
         }
     }
 
-    /// What [`matching`] returns, with the recursive searches and the same
-    /// budget, and the search state at the end (ticks left, best found).
-    fn reference_matching(p: &Problem<'_>) -> (Outcome, usize) {
-        let (n, k) = (p.instances.len(), p.patterns.len());
-        let mut s = Search {
-            p,
-            used: vec![false; k],
-            assign: vec![None; n],
-            binding: p.initial.to_vec(),
-            budget: BUDGET,
-            ordered: p.use_order,
-            rejected: None,
-            best: None,
-        };
-        let done =
-            |s: &Search<'_, '_>| (s.assign.iter().map(|a| a.unwrap_or(0)).collect(), s.binding.clone());
-        let reset = |s: &mut Search<'_, '_>| {
-            s.used.iter_mut().for_each(|u| *u = false);
-            s.assign.iter_mut().for_each(|a| *a = None);
-            s.binding = p.initial.to_vec();
-        };
-        if n == k {
-            match s.full_rec(0) {
-                Err(Exhausted) => return (Outcome::TooComplex, s.budget),
-                Ok(true) => {
-                    let (assign, binding) = done(&s);
-                    return (Outcome::Matched { assign, binding }, s.budget);
-                }
-                Ok(false) => {}
-            }
-            if p.use_order {
-                reset(&mut s);
-                s.ordered = false;
-                match s.full_rec(0) {
-                    Err(Exhausted) => return (Outcome::TooComplex, s.budget),
-                    Ok(true) => {
-                        let (assign, binding) = done(&s);
-                        return (Outcome::Unordered { assign, binding }, s.budget);
-                    }
-                    Ok(false) => {}
-                }
-            }
-            if let Some((assign, binding)) = s.rejected.take() {
-                return (Outcome::Rejected { assign, binding }, s.budget);
-            }
+    /// What [`matching`] returns, with the recursive searches.
+    fn reference_matching(p: &Problem<'_>) -> Outcome {
+        matching_by(p, |s| s.full_rec(0), |s| s.partial_rec(0, 0))
+    }
+
+    /// Orderings given by a table: pattern `j` must not be matched by a step
+    /// listed before the step of a pattern `i` with `after[j] & (1 << i)`.
+    struct Table(Vec<u8>);
+
+    impl OrderingCheck for Table {
+        fn partial(&self, assign: &[Option<usize>], pos: usize) -> bool {
+            let Some(j) = assign[pos] else { return true };
+            assign[..pos].iter().flatten().all(|&i| self.0.get(i).is_none_or(|b| b & (1 << j) == 0))
         }
-        reset(&mut s);
-        s.ordered = false;
-        let outcome = match s.partial_rec(0, 0) {
-            Err(Exhausted) => Outcome::TooComplex,
-            Ok(()) => match s.best {
-                Some((_, assign, binding)) => Outcome::Partial { assign, binding },
-                None => Outcome::Partial { assign: vec![None; n], binding: p.initial.to_vec() },
-            },
-        };
-        (outcome, s.budget)
+        fn complete(&self, assign: &[usize]) -> bool {
+            let some: Vec<Option<usize>> = assign.iter().map(|&j| Some(j)).collect();
+            (0..some.len()).all(|pos| self.partial(&some, pos))
+        }
     }
 
     use proptest::prelude::*;
@@ -876,7 +855,9 @@ mod tests {
             use_order in any::<bool>(),
             distinct in any::<bool>(),
             o3_not_y in any::<bool>(),
+            table in proptest::option::of(proptest::collection::vec(any::<u8>(), 6)),
         ) {
+            let table = table.map(Table);
             let pats: Vec<Pattern> = patterns.iter().map(|(n, a)| pat(n, a)).collect();
             // Pattern j is ordered after the patterns i < j whose bit is set.
             let preds: Vec<Vec<usize>> =
@@ -894,8 +875,9 @@ mod tests {
                 type_ok: &type_ok,
                 accept: &accept,
                 use_order,
+                orderings: table.as_ref().map(|t| t as &dyn OrderingCheck),
             };
-            prop_assert_eq!(matching(&p), reference_matching(&p).0);
+            prop_assert_eq!(matching(&p), reference_matching(&p));
         }
     }
 
@@ -920,6 +902,7 @@ mod tests {
                         type_ok: &|_, _| true,
                         accept: &|_| true,
                         use_order: true,
+                        orderings: None,
                     };
                     matching(&p)
                 })
