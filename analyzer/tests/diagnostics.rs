@@ -337,7 +337,7 @@ fn every_code_has_a_fixture() {
         // exercised by analyzer/tests/planner.rs.
         .filter(|c| &c.id[1..3] != "04" && &c.id[1..3] != "05")
         // I0008 says how many diagnostics the shells do not print: its example
-        // is `tests/limits/` (cli/tests/cli.rs).
+        // is `tests/limits/` (cli/tests/cli/hostile.rs).
         .filter(|c| c.id != codes::DIAGNOSTICS_NOT_SHOWN.id)
         .map(|c| format!("{}-{}", c.id, c.name))
         .filter(|stem| {
