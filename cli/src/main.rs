@@ -6,6 +6,7 @@ mod diff;
 mod inputs;
 mod plan;
 mod render;
+mod snippet;
 mod timeline;
 mod validate;
 

@@ -4,7 +4,6 @@ use std::collections::HashMap;
 use std::io::Write;
 
 use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label, Severity as CsSeverity};
-use codespan_reporting::files::SimpleFiles;
 use codespan_reporting::term::{
     self,
     termcolor::{BufferedStandardStream, ColorChoice},
@@ -14,12 +13,13 @@ use hipop_analyzer::{Analysis, Diagnostic, Severity, SourceFile, TextRange, code
 use serde_json::{Value, json};
 
 use crate::ColorWhen;
+use crate::snippet::{FileId, View};
 
 /// The texts of the files, with what converts a byte offset to a line and
 /// column in logarithmic time (a file of one long line may have thousands of
 /// diagnostics).
 pub struct Sources {
-    files: SimpleFiles<String, std::sync::Arc<str>>,
+    texts: Vec<std::sync::Arc<str>>,
     ids: HashMap<SourceFile, usize>,
     paths: Vec<String>,
     line_starts: Vec<Vec<usize>>,
@@ -31,7 +31,7 @@ pub struct Sources {
 impl Sources {
     pub fn new(analysis: &Analysis, files: &[SourceFile]) -> Sources {
         let mut s = Sources {
-            files: SimpleFiles::new(),
+            texts: Vec::new(),
             ids: HashMap::new(),
             paths: Vec::new(),
             line_starts: Vec::new(),
@@ -48,7 +48,8 @@ impl Sources {
                     wide.push((i, extra));
                 }
             }
-            let id = s.files.add(path.clone(), text);
+            let id = s.texts.len();
+            s.texts.push(text);
             s.ids.insert(f, id);
             s.paths.push(path);
             s.line_starts.push(starts);
@@ -69,8 +70,29 @@ impl Sources {
         self.path(file)
     }
 
-    fn text(&self, id: usize) -> &str {
-        self.files.get(id).map(|f| f.source().as_ref()).unwrap_or("")
+    pub(crate) fn text(&self, id: usize) -> &str {
+        self.texts.get(id).map_or("", |t| t.as_ref())
+    }
+
+    /// The path of file `id`, as given.
+    pub(crate) fn name(&self, id: usize) -> &str {
+        self.paths.get(id).map_or("", |p| p.as_str())
+    }
+
+    pub(crate) fn line_count(&self, id: usize) -> usize {
+        self.line_starts[id].len()
+    }
+
+    /// The index of the line `offset` is on.
+    pub(crate) fn line_index(&self, id: usize, offset: usize) -> usize {
+        self.line_starts[id].partition_point(|&s| s <= offset).saturating_sub(1)
+    }
+
+    /// The bytes of line `line`, with its line break.
+    pub(crate) fn line_range(&self, id: usize, line: usize) -> std::ops::Range<usize> {
+        let starts = &self.line_starts[id];
+        let end = starts.get(line + 1).copied().unwrap_or(self.text(id).len());
+        starts[line.min(starts.len() - 1)]..end
     }
 
     /// 1-based line and column (in characters) of a byte offset. A
@@ -97,48 +119,6 @@ impl Sources {
 /// The length of the UTF-8 byte-order mark `text` starts with, if any.
 fn bom_len(text: &str) -> usize {
     if text.starts_with('\u{feff}') { '\u{feff}'.len_utf8() } else { 0 }
-}
-
-/// The files as codespan-reporting reads them, with the columns of
-/// [`Sources::line_col`]: a byte-order mark does not count as a column.
-struct Columns<'s>(&'s SimpleFiles<String, std::sync::Arc<str>>);
-
-impl<'a> codespan_reporting::files::Files<'a> for Columns<'_> {
-    type FileId = usize;
-    type Name = String;
-    type Source = &'a str;
-
-    fn name(&'a self, id: usize) -> Result<String, codespan_reporting::files::Error> {
-        self.0.name(id)
-    }
-
-    fn source(&'a self, id: usize) -> Result<&'a str, codespan_reporting::files::Error> {
-        self.0.source(id)
-    }
-
-    fn line_index(&'a self, id: usize, byte_index: usize) -> Result<usize, codespan_reporting::files::Error> {
-        self.0.line_index(id, byte_index)
-    }
-
-    fn line_range(
-        &'a self,
-        id: usize,
-        line_index: usize,
-    ) -> Result<std::ops::Range<usize>, codespan_reporting::files::Error> {
-        self.0.line_range(id, line_index)
-    }
-
-    fn column_number(
-        &'a self,
-        id: usize,
-        line_index: usize,
-        byte_index: usize,
-    ) -> Result<usize, codespan_reporting::files::Error> {
-        let column = self.0.column_number(id, line_index, byte_index)?;
-        let bom = bom_len(self.0.source(id)?);
-        let bom = line_index == 0 && bom > 0 && byte_index >= bom;
-        Ok(column - usize::from(bom))
-    }
 }
 
 pub struct Rendered<'a> {
@@ -204,23 +184,26 @@ impl Rendered<'_> {
             let _ = writeln!(out, "error: {path}: {message}");
         }
         for d in &self.shown() {
-            if let Some(cs) = self.to_codespan(d) {
-                let _ = term::emit_to_write_style(out, &config, &Columns(&self.sources.files), &cs);
+            let mut view = View::new(self.sources);
+            if let Some(cs) = self.to_codespan(d, &mut view) {
+                let _ = term::emit_to_write_style(out, &config, &view, &cs);
             }
         }
     }
 
-    fn to_codespan(&self, d: &Diagnostic) -> Option<CsDiagnostic<usize>> {
+    fn to_codespan(&self, d: &Diagnostic, view: &mut View<'_>) -> Option<CsDiagnostic<FileId>> {
         let id = self.sources.id(d.file)?;
         let severity = match d.severity {
             Severity::Error => CsSeverity::Error,
             Severity::Warning => CsSeverity::Warning,
             Severity::Info => CsSeverity::Note,
         };
-        let mut labels = vec![Label::primary(id, range(d.range))];
+        let (file, at) = view.place(id, range(d.range));
+        let mut labels = vec![Label::primary(file, at)];
         for r in &d.related {
             if let Some(rid) = self.sources.id(r.file) {
-                labels.push(Label::secondary(rid, range(r.range)).with_message(r.message.clone()));
+                let (file, at) = view.place(rid, range(r.range));
+                labels.push(Label::secondary(file, at).with_message(r.message.clone()));
             }
         }
         let mut notes = vec![format!("{}: {}", d.code.id, d.code.name)];

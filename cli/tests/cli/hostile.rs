@@ -135,3 +135,39 @@ fn columns_count_characters() {
         assert_eq!(location["end"]["column"].as_u64(), Some(column + 1), "{name}");
     }
 }
+
+/// A line longer than 400 bytes (a generated problem on one line) is shown
+/// as a window around each diagnostic, between `…`: the human output stays
+/// a few hundred bytes per diagnostic, and the header's line and column are
+/// the file's (those of the JSON output), after characters of two bytes.
+#[test]
+fn a_long_line_is_shown_as_a_window() {
+    let actions: Vec<String> = (0..3000)
+        .map(|i| format!("(:action a{i} :parameters (?x) :precondition (and (pé ?x) (r ?x)) :effect (q))"))
+        .collect();
+    let text = format!("(define (domain d) (:requirements :strips) (:predicates (pé ?x) (q)) {})", actions.join(" "));
+    let (codes, doc, _) = check_generated("long-line", &text, &[]);
+    assert_eq!(codes.len(), 201);
+    let dir = TempDir::new("long-line-human");
+    let path = dir.0.join("long.pddl");
+    std::fs::write(&path, &text).expect("generated file written");
+    let o = hipop(&["check", path.to_str().expect("UTF-8 temp path"), "--color", "never"]);
+    assert_eq!(status(&o), 1);
+    let err = stderr(&o);
+    assert!(err.len() < 200 * 1000, "{} bytes printed for 200 diagnostics", err.len());
+    let blocks: Vec<&str> = err.split("error[E0102]").skip(1).collect();
+    assert_eq!(blocks.len(), 200);
+    for (block, d) in blocks.iter().zip(doc["diagnostics"].as_array().expect("diagnostics")) {
+        let start = &d["location"]["start"];
+        let header = format!("long.pddl:{}:{}\n", start["line"], start["column"]);
+        assert!(block.contains(&header), "{header} in {block}");
+        let lines: Vec<&str> = block.lines().collect();
+        let source = lines.iter().find(|l| l.starts_with("1 │ ")).expect("the source line");
+        let carets = lines.iter().find(|l| l.contains('^')).expect("the carets");
+        assert!(source.starts_with("1 │ …") && source.ends_with('…'), "{source}");
+        assert!(source.chars().count() < 2 * 80 + 20, "{source}");
+        // The caret is under the undefined predicate.
+        let at = carets.chars().position(|c| c == '^').expect("a caret");
+        assert_eq!(source.chars().skip(at).take(4).collect::<String>(), "r ?x", "{source}\n{carets}");
+    }
+}
