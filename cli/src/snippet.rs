@@ -2,9 +2,9 @@
 //! are [`Sources::line_col`]'s (characters; a byte-order mark is not one),
 //! found in logarithmic time. A line longer than [`LONG_LINE`] bytes is
 //! shown as a window of about [`CONTEXT`] bytes on each side of what the
-//! label points at, between `…`: a file of one long line (a generated
-//! problem) prints a few hundred bytes per diagnostic, not the whole line
-//! each time.
+//! label points at (of its first [`CONTEXT`] bytes), between `…`: a file of
+//! one long line (a generated problem) prints a few hundred bytes per
+//! diagnostic, not the whole line each time.
 
 use std::ops::Range;
 
@@ -63,6 +63,8 @@ impl<'s> View<'s> {
         if lines.len() <= LONG_LINE && !end_line_long {
             return (FileId::Real(id), range);
         }
+        // A label longer than the context is underlined on its first bytes.
+        let end = ceil_boundary(text, end.min(start + CONTEXT));
         let from = floor_boundary(text, start.saturating_sub(CONTEXT).max(lines.start));
         let to = ceil_boundary(text, end.saturating_add(CONTEXT).min(content_end).max(end));
         let prefix = if from > lines.start { "…" } else { "" };

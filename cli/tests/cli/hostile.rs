@@ -145,7 +145,10 @@ fn a_long_line_is_shown_as_a_window() {
     let actions: Vec<String> = (0..3000)
         .map(|i| format!("(:action a{i} :parameters (?x) :precondition (and (pé ?x) (r ?x)) :effect (q))"))
         .collect();
-    let text = format!("(define (domain d) (:requirements :strips) (:predicates (pé ?x) (q)) {})", actions.join(" "));
+    let text = format!(
+        "(define (domain d) (:requirements :strips) (:predicates (pé ?x) (q)) {})",
+        actions.join(" ")
+    );
     let (codes, doc, _) = check_generated("long-line", &text, &[]);
     assert_eq!(codes.len(), 201);
     let dir = TempDir::new("long-line-human");
@@ -170,4 +173,17 @@ fn a_long_line_is_shown_as_a_window() {
         let at = carets.chars().position(|c| c == '^').expect("a caret");
         assert_eq!(source.chars().skip(at).take(4).collect::<String>(), "r ?x", "{source}\n{carets}");
     }
+}
+
+/// A label longer than a window (200,000 `)` in a row) is underlined on its
+/// first bytes: the output does not grow with the run.
+#[test]
+fn a_long_label_is_underlined_on_its_first_bytes() {
+    let dir = TempDir::new("long-label");
+    let path = dir.0.join("close.pddl");
+    std::fs::write(&path, ")".repeat(200_000)).expect("generated file written");
+    let o = hipop(&["check", path.to_str().expect("UTF-8 temp path"), "--color", "never"]);
+    let err = stderr(&o);
+    assert!(err.len() < 2000, "{} bytes printed", err.len());
+    assert!(err.contains("close.pddl:1:1\n"), "{err}");
 }
