@@ -14,6 +14,21 @@ use crate::plan::agents::AgentTable;
 use crate::plan::{NameMatching, Plan, PlanFormat};
 use crate::syntax::{TextEdit, TextSize};
 
+/// What a repair gives (`hipop repair`).
+pub struct RepairResult {
+    pub status: crate::planner::Status,
+    /// The stage that found the plan.
+    pub stage: Option<crate::repair::Stage>,
+    pub plan: Option<crate::planner::output::SolvedPlan>,
+    /// The old plan's steps, as read against the new problem.
+    pub old: Vec<crate::repair::OldStep>,
+    pub removed: Vec<crate::repair::Removed>,
+    pub stages: Vec<crate::repair::StageRun>,
+    pub stats: crate::planner::Stats,
+    /// Why there is no plan, located in the domain and the problem.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
 /// What [`Analysis::run_planner`] found.
 #[derive(Debug, Clone)]
 pub struct PlanningResult {
@@ -343,6 +358,46 @@ impl Analysis {
             Some(PlanningResult {
                 status: out.status,
                 plan: out.plan,
+                stats: out.stats,
+                diagnostics: out.lints.iter().map(|l| l.to_diagnostic(db)).collect(),
+            })
+        });
+        salsa::Cancelled::catch(run).map_err(|_| Cancelled)
+    }
+
+    /// Repairs the plan in `old` (read in `format`, or the format its
+    /// content shows) for the first problem of the file `problem` (section
+    /// 5 of the HiPOP paper). `None` when that file has no problem.
+    #[allow(clippy::too_many_arguments)]
+    pub fn run_repair(
+        &self,
+        problem: SourceFile,
+        old: SourceFile,
+        format: Option<PlanFormat>,
+        config: &crate::planner::Config,
+        limits: &crate::planner::PlannerLimits,
+        options: &crate::repair::RepairOptions,
+        cancel: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&crate::planner::Progress),
+    ) -> Cancellable<Option<RepairResult>> {
+        let db = &self.db;
+        let run = AssertUnwindSafe(move || {
+            let unit = crate::db::file_units(db, problem)
+                .iter()
+                .copied()
+                .find(|u| u.kind(db) == crate::db::UnitKind::Problem)?;
+            let plan = match format {
+                Some(f) => crate::plan::parse_plan_as(db, old, f),
+                None => crate::plan::parse_plan(db, old),
+            };
+            let out = crate::repair::repair(db, unit, plan, config, limits, options, cancel, progress);
+            Some(RepairResult {
+                status: out.status,
+                stage: out.stage,
+                plan: out.plan,
+                old: out.old,
+                removed: out.removed,
+                stages: out.stages,
                 stats: out.stats,
                 diagnostics: out.lints.iter().map(|l| l.to_diagnostic(db)).collect(),
             })

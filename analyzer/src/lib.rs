@@ -14,6 +14,7 @@ pub mod input;
 pub mod model;
 pub mod plan;
 pub mod planner;
+pub mod repair;
 pub mod semantics;
 pub mod syntax;
 pub mod validate;
@@ -21,5 +22,5 @@ pub mod verify;
 
 pub use db::SourceFile;
 pub use diagnostic::{Code, Diagnostic, Fix, Related, Severity, codes};
-pub use host::{Analysis, AnalysisHost, Cancellable, Cancelled, PlanningResult};
+pub use host::{Analysis, AnalysisHost, Cancellable, Cancelled, PlanningResult, RepairResult};
 pub use syntax::{TextEdit, TextRange, TextSize};

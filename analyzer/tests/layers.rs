@@ -21,6 +21,7 @@ const LAYERS: &[&[&str]] = &[
     &["verify"],
     &["plan"],
     &["validate", "planner"],
+    &["repair"],
     &["ide"],
     &["host"],
 ];

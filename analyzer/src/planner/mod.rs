@@ -288,20 +288,40 @@ pub fn plan<'db>(
     cancel: &dyn Fn() -> bool,
     progress: &mut dyn FnMut(&Progress),
 ) -> Outcome<'db> {
-    let mut stats = Stats::default();
+    match prepare(db, problem, config, limits) {
+        Ok(prepared) => prepared.search(db, config, limits, None, cancel, progress),
+        Err(outcome) => *outcome,
+    }
+}
+
+/// A problem ready to plan: its planning task and heuristic, for one search
+/// or several (a repair searches from several start plans).
+pub struct Prepared<'db> {
+    pub task: task::Task<'db>,
+    pub h: heuristic::Heuristic,
+}
+
+/// Compiles the planning task of a problem, or says why it cannot be
+/// planned (errors, unsupported constructs, a goal that can never hold).
+pub fn prepare<'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    config: &Config,
+    limits: &PlannerLimits,
+) -> Result<Prepared<'db>, Box<Outcome<'db>>> {
     let refuse = |lints| Outcome { status: Status::Refused, plan: None, stats: Stats::default(), lints };
     if !crate::verify::model_is_clean(db, problem) {
         let loc = Loc { item: problem.items(db)[0], span: rowan::TextRange::default() };
-        return refuse(vec![Lint::new(
+        return Err(Box::new(refuse(vec![Lint::new(
             codes::PLANNER_UNSUPPORTED,
             loc,
             "the problem or its domain has errors: fix them before planning",
-        )]);
+        )])));
     }
     let mut task = match task::compile(db, problem, limits) {
         Ok(t) => t,
         Err(unsupported) => {
-            return refuse(
+            return Err(Box::new(refuse(
                 unsupported
                     .into_iter()
                     .map(|u| {
@@ -312,17 +332,17 @@ pub fn plan<'db>(
                         )
                     })
                     .collect(),
-            );
+            )));
         }
     };
     if config.bare {
         if task.htn.is_some() {
             let loc = Loc { item: problem.items(db)[0], span: rowan::TextRange::default() };
-            return refuse(vec![Lint::new(
+            return Err(Box::new(refuse(vec![Lint::new(
                 codes::PLANNER_UNSUPPORTED,
                 loc,
                 "`bare` ignores abstract actions, which an `:htn` problem cannot do without",
-            )]);
+            )])));
         }
         bare(&mut task);
     }
@@ -335,52 +355,78 @@ pub fn plan<'db>(
                 "open link: no action makes this goal true, and the initial state does not either",
             ),
         ];
-        return Outcome { status: Status::NoPlan, plan: None, stats, lints };
+        return Err(Box::new(Outcome { status: Status::NoPlan, plan: None, stats: Stats::default(), lints }));
     }
-    stats.operators = task.ops.len();
-    stats.methods = task.methods.len();
     let h = heuristic::Heuristic::new(&task);
-    let search = search::Search::new(&task, &h, config);
-    let mut best = None;
-    let end = search.run(limits, cancel, progress, &mut stats, &mut best);
-    match end {
-        search::End2::Solved(p) => {
-            let plan = output::solved(db, &task, &p);
-            Outcome { status: Status::Solved, plan: Some(plan), stats, lints: Vec::new() }
-        }
-        search::End2::Exhausted => {
-            let skipped = match stats.loops_skipped {
-                0 => String::new(),
-                n => format!(
-                    ", except {n} refinement{} that repeat a task with the same arguments below itself",
-                    if n == 1 { "" } else { "s" }
-                ),
-            };
-            let mut lints = vec![Lint::new(
-                codes::NO_PLAN,
-                mission_loc(db, &task),
-                format!(
-                    "no plan with the allowed actions and the methods: the search explored every partial plan ({} expanded){skipped}",
-                    stats.expanded
-                ),
-            )];
-            lints.extend(output::flaws(db, &task, best.as_ref(), &h));
-            Outcome { status: Status::NoPlan, plan: None, stats, lints }
-        }
-        search::End2::Limit(kind) => {
-            let what = match kind {
-                LimitKind::Time => format!("the time limit ({:.1} s)", stats.elapsed.as_secs_f64()),
-                LimitKind::Nodes => format!("the node limit ({} plans expanded)", stats.expanded),
-                LimitKind::Memory => "the memory limit".to_string(),
-                LimitKind::Cancelled => "a cancellation".to_string(),
-            };
-            let mut lints = vec![Lint::new(
-                codes::PLANNER_LIMIT,
-                mission_loc(db, &task),
-                format!("no plan found before {what}; the flaws of the most advanced partial plan follow"),
-            )];
-            lints.extend(output::flaws(db, &task, best.as_ref(), &h));
-            Outcome { status: Status::Limit(kind), plan: None, stats, lints }
+    Ok(Prepared { task, h })
+}
+
+impl<'db> Prepared<'db> {
+    /// Runs the search from the empty plan, or from the start plan `seed`
+    /// (a repair, section 5.1 of the HiPOP paper: the search only adds to
+    /// it). A seed the task cannot take gives no plan.
+    pub fn search(
+        &self,
+        db: &'db dyn Db,
+        config: &Config,
+        limits: &PlannerLimits,
+        seed: Option<&search::Seed>,
+        cancel: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Outcome<'db> {
+        let task = &self.task;
+        let h = &self.h;
+        let mut stats = Stats { operators: task.ops.len(), methods: task.methods.len(), ..Stats::default() };
+        let search = search::Search::new(task, h, config);
+        let roots = match seed {
+            None => search.initial(),
+            Some(seed) => {
+                search.seeded(seed).map(|v| v.into_iter().map(|(p, _)| p).collect()).unwrap_or_default()
+            }
+        };
+        let mut best = None;
+        let end = search.run(roots, limits, cancel, progress, &mut stats, &mut best);
+        match end {
+            search::End2::Solved(p) => {
+                let plan = output::solved(db, task, &p);
+                Outcome { status: Status::Solved, plan: Some(plan), stats, lints: Vec::new() }
+            }
+            search::End2::Exhausted => {
+                let skipped = match stats.loops_skipped {
+                    0 => String::new(),
+                    n => format!(
+                        ", except {n} refinement{} that repeat a task with the same arguments below itself",
+                        if n == 1 { "" } else { "s" }
+                    ),
+                };
+                let mut lints = vec![Lint::new(
+                    codes::NO_PLAN,
+                    mission_loc(db, task),
+                    format!(
+                        "no plan with the allowed actions and the methods: the search explored every partial plan ({} expanded){skipped}",
+                        stats.expanded
+                    ),
+                )];
+                lints.extend(output::flaws(db, task, best.as_ref(), h));
+                Outcome { status: Status::NoPlan, plan: None, stats, lints }
+            }
+            search::End2::Limit(kind) => {
+                let what = match kind {
+                    LimitKind::Time => format!("the time limit ({:.1} s)", stats.elapsed.as_secs_f64()),
+                    LimitKind::Nodes => format!("the node limit ({} plans expanded)", stats.expanded),
+                    LimitKind::Memory => "the memory limit".to_string(),
+                    LimitKind::Cancelled => "a cancellation".to_string(),
+                };
+                let mut lints = vec![Lint::new(
+                    codes::PLANNER_LIMIT,
+                    mission_loc(db, task),
+                    format!(
+                        "no plan found before {what}; the flaws of the most advanced partial plan follow"
+                    ),
+                )];
+                lints.extend(output::flaws(db, task, best.as_ref(), h));
+                Outcome { status: Status::Limit(kind), plan: None, stats, lints }
+            }
         }
     }
 }

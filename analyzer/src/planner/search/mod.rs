@@ -14,6 +14,9 @@
 mod cost;
 mod flaws;
 mod resolvers;
+mod seed;
+
+pub use seed::{Seed, SeedError, SeedOrder, SeedStep, Seeded};
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -180,9 +183,11 @@ impl<'a, 'db> Search<'a, 'db> {
         }
     }
 
-    /// Runs the search.
+    /// Runs the search from `roots` ([`Search::initial`], or a repair's
+    /// start plans, [`Search::seeded`]).
     pub fn run(
         &self,
+        roots: Vec<Plan>,
         limits: &PlannerLimits,
         cancel: &dyn Fn() -> bool,
         progress: &mut dyn FnMut(&Progress),
@@ -190,7 +195,6 @@ impl<'a, 'db> Search<'a, 'db> {
         best: &mut Option<Plan>,
     ) -> End2 {
         let started = Instant::now();
-        let roots = self.initial();
         let mut heap = BinaryHeap::new();
         let mut id = 0u64;
         // The most advanced plan: the fewest open links and abstract flaws

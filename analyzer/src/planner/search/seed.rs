@@ -1,0 +1,253 @@
+//! Plans the search starts from when it repairs (section 5.1 of the HiPOP
+//! paper): a non-empty initial plan, built from the steps of a plan that
+//! was being executed. Each step keeps what the old plan says of it: its
+//! operator, its place in the hierarchy (an abstract step refined by its
+//! method, with its subtasks as children), its times in the old schedule
+//! (which choose causal links and threat orderings as the old plan had
+//! them), whether it is fixed in time (executed or running), and the
+//! orderings to keep (phantom links, 5.1.2).
+
+use super::super::plan::{INIT, Kind, OpenOrigin, Plan};
+use super::super::stn::{EPS, ORIGIN, Tp};
+use super::super::task::End;
+use super::Search;
+
+/// How far the old times of a producer and of its consumer may be out of
+/// order and still be the old plan's link: times in plan files are rounded.
+const OLD_TIME_SLACK: f64 = 1e-6;
+
+/// A step of the old plan to put in the start plan.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeedStep {
+    /// The ground operator, an index in [`super::super::task::Task::ops`].
+    pub op: u32,
+    /// The abstract seed step whose method introduced it, by index in
+    /// [`Seed::steps`]: that step is refined (`method`), and its children
+    /// are the method's subtasks, all of them.
+    pub parent: Option<usize>,
+    /// The method instance refining it (an abstract step), or `None`: the
+    /// step enters the plan unrefined (an abstract flaw, 5.1.1).
+    pub method: Option<u32>,
+    /// Its start and end in the old schedule.
+    pub start: f64,
+    pub end: f64,
+    /// Executed or running: its start is fixed at `start`; `done`: its end
+    /// at `end` too.
+    pub fixed: bool,
+    pub done: bool,
+}
+
+/// An ordering to keep between two seed steps' time points: `to` at least
+/// ε after `from`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SeedOrder {
+    pub from: (usize, End),
+    pub to: (usize, End),
+}
+
+/// The start plan of a repair.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Seed {
+    pub steps: Vec<SeedStep>,
+    pub orders: Vec<SeedOrder>,
+}
+
+/// A start plan, with the seed step of each of its steps.
+pub type Seeded = (Plan, Vec<Option<usize>>);
+
+/// Why a seed gives no start plan.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum SeedError {
+    /// A refined step's children are not its method's subtasks.
+    Children(usize),
+    /// The temporal network rejects the steps, their fixed times or the
+    /// orderings kept.
+    Inconsistent,
+}
+
+/// The time of each time point of the start plan in the old schedule,
+/// where it has one (the initial state first of all, the goal last).
+struct OldTimes(rustc_hash::FxHashMap<Tp, f64>);
+
+impl OldTimes {
+    fn at(&self, tp: Tp) -> Option<f64> {
+        self.0.get(&tp).copied()
+    }
+}
+
+impl Search<'_, '_> {
+    /// The start plans for `seed`: the initial plans (goals, timed literals,
+    /// `:htn`) with the seed's steps, each open link of theirs supported
+    /// as in the old schedule (by the latest producer before it, else the
+    /// initial state), threats ordered as there, and the orderings kept.
+    /// What the old schedule does not decide is left to the search.
+    /// Returns the plans and, per plan step, its seed step.
+    pub fn seeded(&self, seed: &Seed) -> Result<Vec<Seeded>, SeedError> {
+        let mut out = Vec::new();
+        let mut last_error = SeedError::Inconsistent;
+        for root in self.initial() {
+            match self.seed_one(root, seed) {
+                Ok(x) => out.push(x),
+                Err(e) => last_error = e,
+            }
+        }
+        if out.is_empty() { Err(last_error) } else { Ok(out) }
+    }
+
+    fn seed_one(&self, mut p: Plan, seed: &Seed) -> Result<Seeded, SeedError> {
+        let n = seed.steps.len();
+        let mut id: Vec<Option<u32>> = vec![None; n];
+        // `:htn` tasks are in the plan already: the seed's top-level steps
+        // of the same operators are them, in the order of the seed.
+        let mut htn_steps: Vec<u32> = (0..p.steps.len() as u32)
+            .filter(|&s| {
+                matches!(p.steps[s as usize].kind, Kind::Op(_)) && p.steps[s as usize].parent.is_none()
+            })
+            .collect();
+        let mut order: Vec<usize> = (0..n).filter(|&i| seed.steps[i].parent.is_none()).collect();
+        order.sort_by(|&a, &b| seed.steps[a].start.total_cmp(&seed.steps[b].start));
+        let mut k = 0;
+        while k < order.len() {
+            let i = order[k];
+            k += 1;
+            let st = &seed.steps[i];
+            let s = match (id[i], htn_steps.iter().position(|&s| p.op_of(s) == Some(st.op))) {
+                (Some(s), _) => s,
+                (None, Some(j)) => htn_steps.remove(j),
+                (None, None) => self.add_step(&mut p, st.op, None).ok_or(SeedError::Inconsistent)?,
+            };
+            id[i] = Some(s);
+            // Its children, after it: refined with its method.
+            if let Some(m) = st.method {
+                if let Some(j) = p.abstracts.iter().position(|&a| a == s) {
+                    std::rc::Rc::make_mut(&mut p.abstracts).remove(j);
+                }
+                let before = p.steps.len() as u32;
+                if !self.refine(&mut p, s, m) {
+                    return Err(SeedError::Inconsistent);
+                }
+                let mut children: Vec<usize> = (0..n).filter(|&c| seed.steps[c].parent == Some(i)).collect();
+                children.sort_by(|&a, &b| seed.steps[a].start.total_cmp(&seed.steps[b].start));
+                let created: Vec<u32> = (before..p.steps.len() as u32)
+                    .filter(|&c| p.steps[c as usize].parent == Some(s))
+                    .collect();
+                if created.len() != children.len() {
+                    return Err(SeedError::Children(i));
+                }
+                let mut free = created;
+                for &c in &children {
+                    let Some(j) = free.iter().position(|&x| p.op_of(x) == Some(seed.steps[c].op)) else {
+                        return Err(SeedError::Children(i));
+                    };
+                    id[c] = Some(free.remove(j));
+                    order.push(c);
+                }
+            }
+        }
+        if let Some(c) = (0..n).find(|&c| id[c].is_none()) {
+            return Err(SeedError::Children(seed.steps[c].parent.unwrap_or(c)));
+        }
+        let id: Vec<u32> = id.into_iter().map(|s| s.unwrap_or(INIT)).collect();
+        let mut of_seed: Vec<Option<usize>> = vec![None; p.steps.len()];
+        let mut times = OldTimes(rustc_hash::FxHashMap::default());
+        times.0.insert(ORIGIN, f64::NEG_INFINITY);
+        times.0.insert(p.goal_tp, f64::INFINITY);
+        for step in p.steps.iter() {
+            if let Kind::Til(t) = step.kind {
+                times.0.insert(step.start, self.task.tils[t as usize].time);
+            }
+        }
+        for (i, &s) in id.iter().enumerate() {
+            of_seed[s as usize] = Some(i);
+            let step = p.steps[s as usize];
+            times.0.insert(step.start, seed.steps[i].start);
+            times.0.insert(step.end, seed.steps[i].end);
+        }
+        // Fixed times, then the orderings kept.
+        for (i, st) in seed.steps.iter().enumerate() {
+            let step = p.steps[id[i] as usize];
+            if st.fixed
+                && !(p.stn.add(ORIGIN, step.start, st.start) && p.stn.add(step.start, ORIGIN, -st.start))
+            {
+                return Err(SeedError::Inconsistent);
+            }
+            if st.done && !(p.stn.add(ORIGIN, step.end, st.end) && p.stn.add(step.end, ORIGIN, -st.end)) {
+                return Err(SeedError::Inconsistent);
+            }
+        }
+        for o in &seed.orders {
+            let a = p.steps[id[o.from.0] as usize].tp(o.from.1);
+            let b = p.steps[id[o.to.0] as usize].tp(o.to.1);
+            if !p.stn.before(a, b) && !p.stn.add(a, b, EPS) {
+                return Err(SeedError::Inconsistent);
+            }
+        }
+        self.link_as_before(&mut p, &times);
+        self.order_threats_as_before(&mut p, &times);
+        if !self.force_threats(&mut p, true) {
+            return Err(SeedError::Inconsistent);
+        }
+        Ok((p, of_seed))
+    }
+
+    /// Supports each open link by the producer the old schedule had: the
+    /// latest one before the need among the seed's steps, else the initial
+    /// state. Visits of itineraries are left to them.
+    fn link_as_before(&self, p: &mut Plan, times: &OldTimes) {
+        let mut i = 0;
+        let mut producers = Vec::new();
+        while i < p.open.len() {
+            let o = p.open[i];
+            if self.is_visit(&o) {
+                i += 1;
+                continue;
+            }
+            let Some(need) = times.at(o.need) else {
+                i += 1;
+                continue;
+            };
+            self.producers(p, &o, &mut producers);
+            if o.origin == OpenOrigin::AbstractEffect {
+                producers.retain(|&(s, _)| s != o.step && p.descends(s, o.step));
+            }
+            let best = producers
+                .iter()
+                .filter_map(|&(s, tp)| {
+                    let t = times.at(tp)?;
+                    // The old times are read from a plan file, rounded.
+                    let before = t <= need + OLD_TIME_SLACK || o.origin == OpenOrigin::AbstractEffect;
+                    before.then_some((t, s, tp))
+                })
+                .max_by(|a, b| a.0.total_cmp(&b.0));
+            let Some((_, s, tp)) = best else {
+                i += 1;
+                continue;
+            };
+            let mut c = p.clone();
+            let open = c.remove_open(i);
+            if c.add_link(self.task, s, tp, &open) {
+                *p = c;
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    /// Orders each threat the way the old schedule has it, when the network
+    /// allows: the threat is then solved as it was.
+    fn order_threats_as_before(&self, p: &mut Plan, times: &OldTimes) {
+        let mut i = p.threats.len();
+        while i > 0 {
+            i -= 1;
+            let t = p.threats[i];
+            let orders = self.threat_orders(p, &t);
+            for (a, b) in orders {
+                let (Some(ta), Some(tb)) = (times.at(a), times.at(b)) else { continue };
+                if ta < tb && p.stn.allows(a, b, EPS) && p.stn.add(a, b, EPS) {
+                    std::rc::Rc::make_mut(&mut p.threats).remove(i);
+                    break;
+                }
+            }
+        }
+    }
+}

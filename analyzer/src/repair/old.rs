@@ -1,0 +1,210 @@
+//! The plan being executed, read for a repair: each step of the plan file
+//! matched with a ground operator of the new problem's task (by name and
+//! arguments), its place in the hierarchy (the decomposition lines), its
+//! times in the old schedule and whether it is frozen (executed, running,
+//! or an unreachable agent's).
+
+use rustc_hash::FxHashMap;
+
+use crate::plan::Plan as PlanFile;
+use crate::planner::task::Task;
+
+/// Why a step of the old plan has no operator in the new problem.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Missing {
+    /// No action or task of that name and those arguments (the action was
+    /// removed, an object is unknown, the arguments do not fit).
+    NoOperator,
+}
+
+/// One step of the old plan.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OldStep {
+    /// `(name arg…)` as the plan file writes it.
+    pub call: String,
+    /// The step's id in the file, else its index.
+    pub id: u32,
+    /// The ground operator of the new task, or why there is none.
+    pub op: Result<u32, Missing>,
+    pub is_abstract: bool,
+    /// The method instance its decomposition names, when the new task has
+    /// one of that name for this operator whose subtasks are the step's.
+    pub method: Option<u32>,
+    /// The decomposition's method name, as written.
+    pub method_name: Option<String>,
+    /// The abstract step whose decomposition lists it.
+    pub parent: Option<usize>,
+    pub children: Vec<usize>,
+    pub start: f64,
+    pub end: f64,
+    /// Never removed: executed, running, or an unreachable agent's.
+    pub frozen: bool,
+    /// Started before `now` (or listed as executed): its start is fixed.
+    pub fixed: bool,
+    /// Ended before `now` (or listed as executed): its end is fixed too.
+    pub done: bool,
+    /// The agents of its operator.
+    pub agents: Vec<String>,
+}
+
+/// What freezes steps of the old plan.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Execution {
+    /// Steps that started before this time are executed or running.
+    pub now: Option<f64>,
+    /// Steps executed, by id (or index in a plan without ids).
+    pub executed: Vec<u32>,
+    /// Agents out of communication: their steps are frozen (5.4).
+    pub unreachable: Vec<String>,
+}
+
+/// Reads the old plan against the new task.
+pub fn read(task: &Task<'_>, plan: &PlanFile, execution: &Execution) -> Vec<OldStep> {
+    let key = |name: &str, args: &mut dyn Iterator<Item = String>| {
+        let mut k = name.to_lowercase();
+        for a in args {
+            k.push(' ');
+            k.push_str(&a.to_lowercase());
+        }
+        k
+    };
+    let mut ops: FxHashMap<String, u32> = FxHashMap::default();
+    for (i, o) in task.ops.iter().enumerate() {
+        let k = key(&o.name, &mut o.args.iter().map(|&a| task.g.objects.name(a).to_string()));
+        ops.entry(k).or_insert(i as u32);
+    }
+    let mut by_id: FxHashMap<u32, usize> = FxHashMap::default();
+    let mut steps: Vec<OldStep> = plan
+        .steps
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let id = s.id.as_ref().map_or(i as u32, |d| d.value);
+            by_id.entry(id).or_insert(i);
+            let k = key(&s.name.text, &mut s.args.iter().map(|a| a.text.to_string()));
+            let op = ops.get(&k).copied().ok_or(Missing::NoOperator);
+            let start = s.start.as_ref().map(|n| n.value);
+            OldStep {
+                call: s.call(),
+                id,
+                op,
+                is_abstract: s.is_abstract(),
+                method: None,
+                method_name: s.decomposition.as_ref().map(|d| d.method.text.to_string()),
+                parent: None,
+                children: Vec::new(),
+                start: start.unwrap_or(f64::NAN),
+                end: s.end().unwrap_or(f64::NAN),
+                frozen: false,
+                fixed: false,
+                done: false,
+                agents: match op {
+                    Ok(o) => task.ops[o as usize]
+                        .agents
+                        .iter()
+                        .map(|&a| task.g.objects.name(a).to_string())
+                        .collect(),
+                    Err(_) => s.agents.iter().map(|a| a.text.to_string()).collect(),
+                },
+            }
+        })
+        .collect();
+    // The hierarchy.
+    for (i, s) in plan.steps.iter().enumerate() {
+        let Some(d) = &s.decomposition else { continue };
+        for sub in &d.subtasks {
+            if let Some(&c) = by_id.get(&sub.value)
+                && c != i
+                && steps[c].parent.is_none()
+            {
+                steps[c].parent = Some(i);
+                steps[i].children.push(c);
+            }
+        }
+    }
+    // Sequential plans: the order is the time.
+    for (i, s) in steps.iter_mut().enumerate() {
+        if !s.is_abstract && s.start.is_nan() {
+            s.start = i as f64;
+            s.end = i as f64;
+        }
+    }
+    // Abstract steps without times span their subtasks (deepest first).
+    let mut order: Vec<usize> = (0..steps.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(depth(&steps, i)));
+    for i in order {
+        if !steps[i].is_abstract || !steps[i].start.is_nan() {
+            continue;
+        }
+        let (lo, hi) = steps[i]
+            .children
+            .iter()
+            .map(|&c| (steps[c].start, steps[c].end))
+            .filter(|(a, b)| !a.is_nan() && !b.is_nan())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+        if lo <= hi {
+            steps[i].start = lo;
+            steps[i].end = hi;
+        } else {
+            steps[i].start = 0.0;
+            steps[i].end = 0.0;
+        }
+    }
+    // Methods: the instance of that name whose subtasks are the children's operators.
+    for i in 0..steps.len() {
+        let (Ok(op), Some(name)) = (&steps[i].op, &steps[i].method_name) else { continue };
+        let mut children: Vec<u32> = Vec::new();
+        let mut complete = true;
+        for &c in &steps[i].children {
+            match steps[c].op {
+                Ok(o) => children.push(o),
+                Err(_) => complete = false,
+            }
+        }
+        if !complete {
+            continue;
+        }
+        children.sort_unstable();
+        steps[i].method = task.ops[*op as usize].methods.iter().copied().find(|&m| {
+            let mi = &task.methods[m as usize];
+            let mut subs: Vec<u32> = mi.subtasks.iter().map(|&(_, o)| o).collect();
+            subs.sort_unstable();
+            mi.name.eq_ignore_ascii_case(name) && subs == children
+        });
+    }
+    // Execution.
+    for s in &mut steps {
+        let listed = execution.executed.contains(&s.id);
+        let started = execution.now.is_some_and(|now| s.start < now);
+        let ended = execution.now.is_some_and(|now| s.end <= now);
+        s.fixed = listed || started;
+        s.done = listed || ended;
+        let unreachable =
+            s.agents.iter().any(|a| execution.unreachable.iter().any(|u| u.eq_ignore_ascii_case(a)));
+        s.frozen = s.fixed || unreachable;
+    }
+    // An abstract step with a frozen subtask is frozen: it is being executed.
+    let mut order: Vec<usize> = (0..steps.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(depth(&steps, i)));
+    for i in order {
+        if let Some(p) = steps[i].parent
+            && steps[i].frozen
+        {
+            steps[p].frozen = true;
+        }
+    }
+    steps
+}
+
+/// How many abstract steps are above step `i`.
+fn depth(steps: &[OldStep], mut i: usize) -> usize {
+    let mut d = 0;
+    while let Some(p) = steps[i].parent {
+        d += 1;
+        i = p;
+        if d > steps.len() {
+            break;
+        }
+    }
+    d
+}

@@ -1,0 +1,174 @@
+//! Plan repair (section 5 of the HiPOP paper): a plan repaired for the
+//! problem it solves comes back unchanged; steps the new problem cannot
+//! have are removed; the repaired plans are valid.
+
+use std::path::Path;
+
+use hipop_analyzer::planner::{Config, PlannerLimits, Status};
+use hipop_analyzer::repair::{RepairOptions, Stage, Why};
+use hipop_analyzer::{AnalysisHost, RepairResult};
+
+fn root() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+}
+
+fn read(rel: &str) -> String {
+    std::fs::read_to_string(root().join(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
+}
+
+/// Plans `problem`, then repairs that plan for `new_problem` (the same
+/// problem when `None`): the old plan's primitive steps, the repair and the
+/// repaired plan's validation errors.
+fn plan_then_repair(
+    domain: &str,
+    problem: &str,
+    new_problem: Option<&str>,
+    options: &RepairOptions,
+) -> (Vec<String>, RepairResult, Vec<String>) {
+    let mut host = AnalysisHost::new();
+    host.set_file_text("domain.pddl", domain.to_string());
+    let p = host.set_file_text("problem.pddl", problem.to_string());
+    let limits = PlannerLimits { time: Some(std::time::Duration::from_secs(30)), ..PlannerLimits::default() };
+    let config = Config::default();
+    let planned = host.analysis().run_planner(p, &config, &limits, &|| false, &mut |_| {}).unwrap().unwrap();
+    assert_eq!(planned.status, Status::Solved);
+    let old = planned.plan.unwrap();
+    let text = if old.is_hierarchical() { old.to_hierarchical("") } else { old.to_val("") };
+    let old_steps: Vec<String> =
+        old.primitive().map(|s| format!("({} {})", s.name, s.args.join(" "))).collect();
+    let np = match new_problem {
+        Some(t) => host.set_file_text("new-problem.pddl", t.to_string()),
+        None => p,
+    };
+    let f = host.set_file_text("old.plan", text);
+    let result = host
+        .analysis()
+        .run_repair(np, f, None, &config, &limits, options, &|| false, &mut |_| {})
+        .unwrap()
+        .unwrap();
+    let mut errors = Vec::new();
+    if let Some(plan) = &result.plan {
+        let text = if plan.is_hierarchical() { plan.to_hierarchical("") } else { plan.to_val("") };
+        let r = host.set_file_text("repaired.plan", text);
+        let v = host.analysis().validate_plan(r, None, np, &Default::default()).unwrap().unwrap();
+        errors = v
+            .diagnostics
+            .iter()
+            .filter(|d| d.severity == hipop_analyzer::Severity::Error)
+            .map(|d| format!("{} {}", d.code.id, d.message))
+            .collect();
+    }
+    (old_steps, result, errors)
+}
+
+fn primitive(result: &RepairResult) -> Vec<String> {
+    let plan = result.plan.as_ref().expect("a plan");
+    plan.primitive().map(|s| format!("({} {})", s.name, s.args.join(" "))).collect()
+}
+
+fn sorted(mut v: Vec<String>) -> Vec<String> {
+    v.sort();
+    v
+}
+
+#[test]
+fn a_plan_repaired_for_its_own_problem_comes_back_unchanged() {
+    for dir in ["samples/surveillance", "samples/satellite-abstract"] {
+        let domain = read(&format!("{dir}/domain.pddl"));
+        let problem_file = if dir.ends_with("surveillance") { "problem.pddl" } else { "instance-1.pddl" };
+        let problem = read(&format!("{dir}/{problem_file}"));
+        let (old, result, errors) = plan_then_repair(&domain, &problem, None, &RepairOptions::default());
+        assert_eq!(result.status, Status::Solved, "{dir}");
+        assert_eq!(result.stage, Some(Stage::Obsolete), "{dir}");
+        assert!(result.removed.is_empty(), "{dir}: {:?}", result.removed);
+        assert_eq!(sorted(primitive(&result)), sorted(old), "{dir}: instability 0");
+        assert!(errors.is_empty(), "{dir}: {errors:?}");
+    }
+}
+
+fn satellite() -> (String, String) {
+    (read("samples/satellite-abstract/domain.pddl"), read("samples/satellite-abstract/instance-1.pddl"))
+}
+
+/// A new goal (a new survivor, in the paper's words): the old steps stay,
+/// steps are added for it, in stage 1.
+#[test]
+fn a_new_goal_keeps_the_old_steps() {
+    let (domain, problem) = satellite();
+    let new = problem.replace(
+        "(have_image Phenomenon6 thermograph0)",
+        "(have_image Phenomenon6 thermograph0)\n\t(have_image Star0 thermograph0)",
+    );
+    assert_ne!(new, problem);
+    let (old, result, errors) = plan_then_repair(&domain, &problem, Some(&new), &RepairOptions::default());
+    assert_eq!(result.status, Status::Solved);
+    assert_eq!(result.stage, Some(Stage::Obsolete));
+    assert!(result.removed.is_empty(), "{:?}", result.removed);
+    let mut repaired = primitive(&result);
+    for step in &old {
+        let k =
+            repaired.iter().position(|s| s == step).unwrap_or_else(|| panic!("{step} kept: {repaired:?}"));
+        repaired.remove(k);
+    }
+    assert!(repaired.iter().any(|s| s.contains("Star0")), "added for the new goal: {repaired:?}");
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+/// A goal dropped: the abstract step that achieved it supports nothing any
+/// more and is removed with its subtasks; the rest stays.
+#[test]
+fn a_step_that_supports_nothing_is_removed() {
+    let (domain, problem) = satellite();
+    let new = problem.replace("(have_image Star5 thermograph0)", "");
+    let (old, result, errors) = plan_then_repair(&domain, &problem, Some(&new), &RepairOptions::default());
+    assert_eq!(result.status, Status::Solved);
+    assert_eq!(result.stage, Some(Stage::Obsolete));
+    let removed: Vec<(&str, Why)> =
+        result.removed.iter().map(|r| (result.old[r.step].call.as_str(), r.why)).collect();
+    assert!(
+        removed.iter().any(
+            |(call, why)| call.starts_with("(get_image satellite0 Star5") && *why == Why::SupportsNothing
+        ),
+        "{removed:?}"
+    );
+    assert!(
+        removed
+            .iter()
+            .any(|(call, why)| call.starts_with("(take_image satellite0 Star5") && *why == Why::UnderRemoved)
+    );
+    let repaired = primitive(&result);
+    assert!(!repaired.iter().any(|s| s.contains("take_image satellite0 Star5")), "{repaired:?}");
+    assert!(repaired.len() < old.len());
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+/// An action no longer allowed: its top-level steps are obsolete; without
+/// it the goals cannot be reached, even by the full replan: no plan.
+#[test]
+fn obsolete_steps_are_removed_and_no_plan_is_a_verdict() {
+    let (domain, problem) = satellite();
+    let new = problem.replace("calibrate_instrument get_image)", "calibrate_instrument)");
+    assert_ne!(new, problem);
+    let (_, result, _) = plan_then_repair(&domain, &problem, Some(&new), &RepairOptions::default());
+    assert_eq!(result.status, Status::NoPlan);
+    assert!(result.plan.is_none());
+    let why: Vec<Why> = result.removed.iter().filter(|r| r.stage == Stage::Obsolete).map(|r| r.why).collect();
+    assert!(why.contains(&Why::NotAllowed), "{why:?}");
+    assert_eq!(result.stages.last().map(|s| s.stage), Some(Stage::Replan));
+}
+
+/// repairFlat: the hierarchy is discarded, the primitive steps stay.
+#[test]
+fn repair_flat_discards_the_hierarchy() {
+    let (domain, problem) = satellite();
+    let options = RepairOptions { flat: true, ..RepairOptions::default() };
+    let (_, result, errors) = plan_then_repair(&domain, &problem, None, &options);
+    assert_eq!(result.status, Status::Solved);
+    assert!(
+        result.removed.iter().all(|r| r.why == Why::Flat || r.stage != Stage::Obsolete),
+        "{:?}",
+        result.removed
+    );
+    assert!(result.removed.iter().any(|r| r.why == Why::Flat));
+    assert!(errors.is_empty(), "{errors:?}");
+}
