@@ -6,6 +6,7 @@ mod diff;
 mod inputs;
 mod plan;
 mod render;
+mod repair;
 mod snippet;
 mod timeline;
 mod validate;
@@ -87,6 +88,21 @@ enum Command {
     /// input error (or a model with errors or constructs the planner does
     /// not support).
     Plan(PlanArgs),
+    /// Repair a plan after a disruptive event (section 5 of the HiPOP paper):
+    /// search again from what is left of the old plan for the new problem,
+    /// removing more of it each time the search fails, a full replan last.
+    ///
+    /// PROBLEM is the problem after the event; OLD_PLAN the plan being
+    /// executed, in any format hipop reads. Stage 1 removes the steps the
+    /// new problem cannot have and those that support nothing; later stages
+    /// remove rings of steps around them; abstract steps are un-refined as a
+    /// whole (docs/repair.md). The report (standard error) gives each stage,
+    /// the steps removed and why, and the stability figures of `hipop diff`.
+    ///
+    /// Exit status: 0 repaired, 1 no plan even after the full replan, 3 a
+    /// limit reached, 2 on a usage or input error (a model with errors, an
+    /// old plan that cannot be read).
+    Repair(RepairArgs),
     /// Run the language server on standard input and output (for editors).
     ///
     /// Exit status: 0 after the client's `exit` or the end of standard input,
@@ -178,6 +194,50 @@ struct PlanArgs {
     /// standard output: use `-o FILE` to keep them apart; `--svg FILE`).
     #[command(flatten)]
     timeline: timeline::TimelineArgs,
+    /// When to use colours in diagnostics.
+    #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
+    color: ColorWhen,
+}
+
+#[derive(Debug, clap::Args)]
+struct RepairArgs {
+    /// The domain file (after the event).
+    domain: std::path::PathBuf,
+    /// The problem file after the event (its first problem).
+    problem: std::path::PathBuf,
+    /// The plan being executed (VAL, hierarchical, timed hierarchical or JSON).
+    old_plan: std::path::PathBuf,
+    /// Write the repaired plan to this file rather than to standard output.
+    #[arg(short = 'o', long, value_name = "FILE")]
+    output: Option<std::path::PathBuf>,
+    /// How the repaired plan is written.
+    #[arg(long, value_enum, default_value_t = plan::PlanOutput::Auto)]
+    format: plan::PlanOutput,
+    /// Steps of the old plan that started before this time are executed or
+    /// running: fixed at their times, never removed.
+    #[arg(long, value_name = "T")]
+    now: Option<f64>,
+    /// The ids of steps executed (fixed, never removed), comma-separated.
+    #[arg(long, value_name = "ID,...", value_delimiter = ',')]
+    executed: Vec<u32>,
+    /// Agents out of communication: their steps are frozen, never removed.
+    #[arg(long, value_name = "AGENT,...", value_delimiter = ',')]
+    unreachable: Vec<String>,
+    /// repairFlat: discard the old plan's hierarchy, keep its actions.
+    #[arg(long)]
+    flat: bool,
+    /// The planner configuration (as for `hipop plan`).
+    #[arg(long, value_name = "NAME", default_value = hipop_analyzer::planner::Config::DEFAULT, value_parser = plan::parse_config)]
+    config: hipop_analyzer::planner::Config,
+    /// Stop after this many seconds in all (each repair stage gets a quarter).
+    #[arg(long, value_name = "SECONDS", default_value = "60", value_parser = plan::parse_seconds)]
+    time_limit: std::time::Duration,
+    /// Do not print the report.
+    #[arg(short, long)]
+    quiet: bool,
+    /// Print the last search's statistics.
+    #[arg(long)]
+    stats: bool,
     /// When to use colours in diagnostics.
     #[arg(long, value_enum, default_value_t = ColorWhen::Auto)]
     color: ColorWhen,
@@ -429,6 +489,26 @@ fn main() -> ExitCode {
                 timeline: args.timeline,
             };
             ExitCode::from(plan::run(&args.domain, &args.problem, &options))
+        }
+        Command::Repair(args) => {
+            let options = repair::Options {
+                output: args.output,
+                format: args.format,
+                config: args.config,
+                limits: hipop_analyzer::planner::PlannerLimits {
+                    time: Some(args.time_limit),
+                    memory_in_use: Some(hipop_analyzer::alloc::in_use),
+                    ..Default::default()
+                },
+                repair: hipop_analyzer::repair::RepairOptions {
+                    execution: repair::execution(args.now, args.executed, args.unreachable),
+                    flat: args.flat,
+                },
+                color: args.color,
+                quiet: args.quiet,
+                stats: args.stats,
+            };
+            ExitCode::from(repair::run(&args.domain, &args.problem, &args.old_plan, &options))
         }
         Command::Lsp(args) => {
             if let Some(transport) = args.unsupported_transport() {

@@ -35,3 +35,57 @@ fn plan_exit_statuses() {
     assert_eq!(status(&o), 2);
     assert!(stderr(&o).contains("unknown part `fast`"), "{}", stderr(&o));
 }
+
+/// `hipop repair`: a plan repaired for a problem with one more goal keeps
+/// its actions and validates (exit 0); with the abstract action the goals
+/// need no longer allowed, no plan even after the full replan (exit 1);
+/// an unreadable old plan is an input error (exit 2).
+#[test]
+fn repair_exit_statuses() {
+    let dir = TempDir::new("repair");
+    let domain = "samples/satellite-abstract/domain.pddl";
+    let problem = "samples/satellite-abstract/instance-1.pddl";
+    let old = dir.0.join("old.plan");
+    let old_s = old.to_str().expect("UTF-8 temp path");
+    let o = hipop(&["plan", domain, problem, "-o", old_s, "-q"]);
+    assert_eq!(status(&o), 0, "{}", stderr(&o));
+    let text = std::fs::read_to_string(workspace_root().join(problem)).expect("the problem");
+    let write = |name: &str, text: String| {
+        let path = dir.0.join(name);
+        std::fs::write(&path, text).expect("written");
+        path.to_str().expect("UTF-8 temp path").to_string()
+    };
+    let more = write(
+        "more.pddl",
+        text.replace(
+            "(have_image Phenomenon6 thermograph0)",
+            "(have_image Phenomenon6 thermograph0) (have_image Star0 thermograph0)",
+        ),
+    );
+    let repaired = dir.0.join("repaired.plan");
+    let repaired_s = repaired.to_str().expect("UTF-8 temp path");
+    let o = hipop(&["repair", domain, &more, old_s, "-o", repaired_s]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 0, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("stage 1 (obsolete steps removed): 14 steps of the old plan kept, repaired"),
+        "{err}"
+    );
+    assert!(err.contains("10 actions kept, 0 removed, 3 added"), "{err}");
+    let o = hipop(&["validate", domain, &more, repaired_s]);
+    assert_eq!(status(&o), 0, "{}", stderr(&o));
+
+    let fewer = write("fewer.pddl", text.replace("calibrate_instrument get_image)", "calibrate_instrument)"));
+    let o = hipop(&["repair", domain, &fewer, old_s, "--executed", "0"]);
+    assert_eq!(status(&o), 1, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("obsolete: the action is no longer allowed"), "{err}");
+    assert!(err.contains("no plan, even after the full replan"), "{err}");
+
+    let broken = write("broken.plan", "0.0: (turn_to satellite0\n".into());
+    let o = hipop(&["repair", domain, problem, &broken]);
+    assert_no_panic(&o);
+    assert_eq!(status(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("the old plan cannot be read"), "{}", stderr(&o));
+}

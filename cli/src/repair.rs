@@ -1,0 +1,224 @@
+//! `hipop repair DOMAIN PROBLEM OLD_PLAN`: repairs the plan being executed
+//! for the problem after an event (`hipop_analyzer::repair`, section 5 of
+//! the HiPOP paper), writes the repaired plan and reports what changed.
+
+use std::path::{Path, PathBuf};
+
+use hipop_analyzer::diagnostic::SHOWN_PER_FILE;
+use hipop_analyzer::plan::NameMatching;
+use hipop_analyzer::plan::diff::{DiffOptions, diff};
+use hipop_analyzer::planner::{Config, PlannerLimits, Status};
+use hipop_analyzer::repair::{Execution, RepairOptions, Stage};
+use hipop_analyzer::{AnalysisHost, Severity};
+
+use crate::ColorWhen;
+use crate::plan::PlanOutput;
+use crate::render::{Rendered, Sources, print_stdout};
+
+pub struct Options {
+    pub output: Option<PathBuf>,
+    pub format: PlanOutput,
+    pub config: Config,
+    pub limits: PlannerLimits,
+    pub repair: RepairOptions,
+    pub color: ColorWhen,
+    pub quiet: bool,
+    pub stats: bool,
+}
+
+/// Exit status: 0 repaired, 1 no plan even after the full replan, 3 a limit
+/// reached, 2 usage or input error.
+pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
+    let mut host = AnalysisHost::new();
+    let mut load = |path: &Path, what: &str| match crate::diff::read(path, what) {
+        Ok(text) => Ok(host.set_file_text(&path.display().to_string(), text)),
+        Err(m) => Err(m),
+    };
+    let files =
+        match (load(domain, "a domain file"), load(problem, "a problem file"), load(old, "a plan file")) {
+            (Ok(d), Ok(p), Ok(o)) => [d, p, o],
+            (Err(m), _, _) | (_, Err(m), _) | (_, _, Err(m)) => {
+                eprintln!("error: {m}");
+                return 2;
+            }
+        };
+    let [_, fp, fo] = files;
+    let analysis = host.analysis();
+    let interrupted = || {
+        eprintln!("error: the analysis was interrupted; this is a bug in hipop, please report it");
+        2u8
+    };
+    let mut errors = Vec::new();
+    for f in [files[0], fp] {
+        match analysis.check_diagnostics(f) {
+            Ok(d) => errors.extend(d.into_iter().filter(|d| d.severity == Severity::Error)),
+            Err(_) => return interrupted(),
+        }
+    }
+    let model_errors = !errors.is_empty();
+    match analysis.plan_diagnostics(fo, None) {
+        Ok(d) => errors.extend(d.into_iter().filter(|d| d.severity == Severity::Error)),
+        Err(_) => return interrupted(),
+    }
+    if !errors.is_empty() {
+        let sources = Sources::new(&analysis, &files);
+        let rendered = Rendered {
+            sources: &sources,
+            diagnostics: &errors,
+            io_errors: &[],
+            files: 3,
+            max_per_file: SHOWN_PER_FILE,
+        };
+        let mut stream = crate::render::stderr(options.color);
+        rendered.emit_human(&mut stream);
+        let _ = std::io::Write::flush(&mut stream);
+        eprintln!(
+            "error: {}",
+            if model_errors {
+                "the domain or the problem has errors: fix them before repairing"
+            } else {
+                "the old plan cannot be read: fix it before repairing"
+            }
+        );
+        return 2;
+    }
+    let result = match analysis.run_repair(
+        fp,
+        fo,
+        None,
+        &options.config,
+        &options.limits,
+        &options.repair,
+        &|| false,
+        &mut |_| {},
+    ) {
+        Ok(Some(r)) => r,
+        Ok(None) => {
+            eprintln!("error: {}: no `(define (problem …) …)` in this file", problem.display());
+            return 2;
+        }
+        Err(_) => return interrupted(),
+    };
+    // The report: the stages, the steps removed and why.
+    if !options.quiet {
+        for s in &result.stages {
+            eprintln!(
+                "{}: {} step{} of the old plan kept, {}, {} plans expanded in {:.3} s",
+                s.stage.describe(),
+                s.kept,
+                if s.kept == 1 { "" } else { "s" },
+                status_text(&s.status),
+                s.expanded,
+                s.elapsed.as_secs_f64()
+            );
+        }
+        for r in &result.removed {
+            if r.stage == Stage::Replan {
+                continue;
+            }
+            let step = &result.old[r.step];
+            eprintln!("  removed {} (step {}): {}", step.call, step.id, r.why.describe());
+        }
+    }
+    if options.stats {
+        let s = &result.stats;
+        eprintln!(
+            "search: {} plans expanded, {} generated in {:.3} s; {} ground operators, {} method instances",
+            s.expanded,
+            s.generated,
+            s.elapsed.as_secs_f64(),
+            s.operators,
+            s.methods
+        );
+    }
+    let Some(plan) = &result.plan else {
+        let (code, what) = match result.status {
+            Status::NoPlan => (1, "no plan, even after the full replan"),
+            Status::Limit(_) => (3, "no plan before the limit"),
+            _ => (2, "not repaired: the planner cannot plan this problem"),
+        };
+        let diagnostics = result.diagnostics;
+        let sources = Sources::new(&analysis, &files);
+        let rendered = Rendered {
+            sources: &sources,
+            diagnostics: &diagnostics,
+            io_errors: &[],
+            files: 3,
+            max_per_file: SHOWN_PER_FILE,
+        };
+        let mut stream = crate::render::stderr(options.color);
+        rendered.emit_human(&mut stream);
+        let _ = std::io::Write::flush(&mut stream);
+        eprintln!("error: {what}");
+        return code;
+    };
+    let format = match options.format {
+        PlanOutput::Auto if plan.is_hierarchical() => PlanOutput::Hierarchical,
+        PlanOutput::Auto => PlanOutput::Val,
+        f => f,
+    };
+    let header = format!(
+        "hipop repair of {} for problem {} of domain {}\nmakespan {:.3}, {} actions\nfound by {}, configuration {}",
+        old.display(),
+        plan.problem,
+        plan.domain,
+        plan.makespan,
+        plan.primitive().count(),
+        result.stage.map_or_else(|| "the full replan".to_string(), |s| s.describe()),
+        options.config.name()
+    );
+    let text = match format {
+        PlanOutput::Json => plan.to_json(),
+        PlanOutput::Hierarchical => plan.to_hierarchical(&header),
+        _ => plan.to_val(&header),
+    };
+    match &options.output {
+        Some(path) => {
+            if let Err(e) = std::fs::write(path, &text) {
+                eprintln!("error: {}: cannot write: {e}", path.display());
+                return 2;
+            }
+        }
+        None => print_stdout(&text),
+    }
+    // The stability figures against the old plan, as `hipop diff` gives them.
+    if !options.quiet {
+        let written = if plan.is_hierarchical() { plan.to_hierarchical("") } else { plan.to_val("") };
+        drop(analysis);
+        let fr = host.set_file_text("<repaired plan>.plan", written);
+        let analysis = host.analysis();
+        let figures = (|| {
+            let a = analysis.plan(fo, None).ok()?;
+            let b = analysis.plan(fr, None).ok()?;
+            let agents = analysis.plan_agents(files[0], NameMatching::CaseInsensitive).ok()?;
+            Some(diff(&a, &b, &agents, &DiffOptions::default()))
+        })();
+        if let Some(d) = figures {
+            eprintln!(
+                "repaired: {} action{} kept, {} removed, {} added, {} retimed; instability {}, distance {}",
+                d.matched.len(),
+                if d.matched.len() == 1 { "" } else { "s" },
+                d.removed.len(),
+                d.added.len(),
+                d.retimed.len(),
+                d.instability,
+                d.distance
+            );
+        }
+    }
+    0
+}
+
+fn status_text(s: &Status) -> String {
+    match s {
+        Status::Solved => "repaired".into(),
+        Status::NoPlan => "no plan from there".into(),
+        Status::Limit(k) => format!("stopped by the {} limit", k.as_str()),
+        Status::Refused => "refused".into(),
+    }
+}
+
+/// What freezes steps of the old plan.
+pub fn execution(now: Option<f64>, executed: Vec<u32>, unreachable: Vec<String>) -> Execution {
+    Execution { now, executed, unreachable }
+}
