@@ -24,6 +24,8 @@ pub struct RepairResult {
     pub old: Vec<crate::repair::OldStep>,
     pub removed: Vec<crate::repair::Removed>,
     pub stages: Vec<crate::repair::StageRun>,
+    /// The goals dropped: meetings that could not be kept.
+    pub dropped: Vec<crate::repair::DroppedGoal>,
     pub stats: crate::planner::Stats,
     /// Why there is no plan, located in the domain and the problem.
     pub diagnostics: Vec<Diagnostic>,
@@ -398,6 +400,7 @@ impl Analysis {
                 old: out.old,
                 removed: out.removed,
                 stages: out.stages,
+                dropped: out.dropped,
                 stats: out.stats,
                 diagnostics: out.lints.iter().map(|l| l.to_diagnostic(db)).collect(),
             })

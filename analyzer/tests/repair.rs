@@ -172,3 +172,40 @@ fn repair_flat_discards_the_hierarchy() {
     assert!(result.removed.iter().any(|r| r.why == Why::Flat));
     assert!(errors.is_empty(), "{errors:?}");
 }
+
+/// A meeting that cannot be kept any more (its window closes too early) is
+/// dropped as a goal once the repair and the full replan fail (section 5.5);
+/// the observations stay.
+#[test]
+fn a_meeting_that_cannot_be_kept_is_dropped() {
+    let dir = "tests/repair/dropped-meeting";
+    let domain = read(&format!("{dir}/domain.pddl"));
+    let options = RepairOptions {
+        execution: hipop_analyzer::repair::Execution { unreachable: vec!["r2".into()], ..Default::default() },
+        ..RepairOptions::default()
+    };
+    let (old, result, errors) = plan_then_repair(
+        &domain,
+        &read(&format!("{dir}/problem.pddl")),
+        Some(&read(&format!("{dir}/new-problem.pddl"))),
+        &options,
+    );
+    assert_eq!(result.status, Status::Solved, "{:?}", result.stages);
+    assert_eq!(
+        result.dropped,
+        [hipop_analyzer::repair::DroppedGoal { goal: "(met r1 r2)".into(), unreachable: true }]
+    );
+    // The first attempt (stage 1 and the replan) had the meeting; the second not.
+    assert!(result.stages.iter().any(|s| s.stage == Stage::Replan && s.status == Status::NoPlan));
+    assert_eq!(result.stages.last().map(|s| s.goals), Some(2));
+    let repaired = primitive(&result);
+    assert!(!repaired.iter().any(|s| s.starts_with("(communicate")), "{repaired:?}");
+    assert!(
+        repaired.iter().any(|s| s == "(observe r1 a p1)")
+            && repaired.iter().any(|s| s == "(observe r2 d p2)")
+    );
+    assert!(old.iter().any(|s| s.starts_with("(communicate")));
+    // The repaired plan reaches the goals that are left; the new problem
+    // still asks for the meeting, so its validation reports that goal only.
+    assert!(errors.iter().all(|e| e.contains("met")), "{errors:?}");
+}

@@ -103,10 +103,12 @@ pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
     if !options.quiet {
         for s in &result.stages {
             eprintln!(
-                "{}: {} step{} of the old plan kept, {}, {} plans expanded in {:.3} s",
+                "{}: {} step{} of the old plan kept, {} goal{}, {}, {} plans expanded in {:.3} s",
                 s.stage.describe(),
                 s.kept,
                 if s.kept == 1 { "" } else { "s" },
+                s.goals,
+                if s.goals == 1 { "" } else { "s" },
                 status_text(&s.status),
                 s.expanded,
                 s.elapsed.as_secs_f64()
@@ -118,6 +120,13 @@ pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
             }
             let step = &result.old[r.step];
             eprintln!("  removed {} (step {}): {}", step.call, step.id, r.why.describe());
+        }
+        for d in &result.dropped {
+            eprintln!(
+                "  dropped the goal {}: a meeting{} that no plan keeps",
+                d.goal,
+                if d.unreachable { " with an unreachable agent" } else { "" }
+            );
         }
     }
     if options.stats {

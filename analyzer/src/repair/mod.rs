@@ -9,6 +9,10 @@
 //!   subtasks of a decomposition whose method is gone; then, until none is
 //!   left, top-level steps that support nothing (no causal link leaves
 //!   them). The search starts from the rest.
+//! - Deadlines (Figure 14, stages 3–4): while the steps left cannot be
+//!   scheduled (a step ran late, a window closes earlier), the steps
+//!   between now and the next deadline (a timed initial literal) are
+//!   removed, one deadline after the other.
 //! - Rings: on failure, the steps next to those removed at the previous
 //!   stage (a causal link of the old plan between them, or the same agent's
 //!   step just before or after in the old schedule) are removed, and the
@@ -22,6 +26,9 @@
 //! - Frozen steps (5.3, 5.4): executed and running steps (fixed at their
 //!   old times) and the steps of unreachable agents are never removed.
 //! - The last stage plans from scratch with the caller's configuration.
+//! - Meetings (5.5): when even that fails, the goals only actions of two
+//!   agents or more achieve are dropped (an unreachable agent's first) and
+//!   the repair starts again.
 //!
 //! With geometric reasoning, the old plan's top-level moves are not put in
 //! the start plan: the itineraries add moves again between the visits,
@@ -75,7 +82,7 @@ impl Stage {
 }
 
 /// Why a step of the old plan was removed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Why {
     /// No action or task of that name for those arguments in the new problem.
     NoOperator,
@@ -93,6 +100,8 @@ pub enum Why {
     Flat,
     /// In the `n`-th ring around the steps removed.
     Ring(u32),
+    /// Between now and a deadline that the plan misses (Figure 14).
+    Deadline(f64),
     /// The full replan removed every step.
     Replan,
 }
@@ -108,13 +117,14 @@ impl Why {
             Why::UnderRemoved => "its abstract step was removed".into(),
             Why::Flat => "the hierarchy is discarded (repairFlat)".into(),
             Why::Ring(n) => format!("ring {n}: next to a step removed"),
+            Why::Deadline(t) => format!("it comes before the deadline at {t}, which the plan misses"),
             Why::Replan => "the full replan starts from nothing".into(),
         }
     }
 }
 
 /// A step of the old plan removed by the repair.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Removed {
     /// Its index in the old plan's steps.
     pub step: usize,
@@ -128,6 +138,8 @@ pub struct StageRun {
     pub stage: Stage,
     /// Steps of the old plan in the start plan.
     pub kept: usize,
+    /// Goals searched for (fewer once meetings are dropped).
+    pub goals: usize,
     pub status: Status,
     pub expanded: u64,
     pub elapsed: Duration,
@@ -143,13 +155,27 @@ pub struct RepairOutcome<'db> {
     pub old: Vec<OldStep>,
     pub removed: Vec<Removed>,
     pub stages: Vec<StageRun>,
+    /// The goals dropped (meetings that cannot be kept, 5.5).
+    pub dropped: Vec<DroppedGoal>,
     /// Why there is no plan (the last search's flaws), or why the problem
     /// cannot be planned.
     pub lints: Vec<Lint<'db>>,
     pub stats: Stats,
 }
 
-/// Repairs `old_plan` for `problem`.
+/// A goal the repair dropped (section 5.5: a meeting that cannot be kept).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DroppedGoal {
+    /// The goal, as `(met r1 r2)`.
+    pub goal: String,
+    /// Whether one of the agents that could meet is unreachable.
+    pub unreachable: bool,
+}
+
+/// Repairs `old_plan` for `problem`. When no plan is found, even by the
+/// full replan, the meetings are dropped (goals that only actions of two
+/// agents or more achieve): first those with an unreachable agent, then
+/// all of them, and the repair starts again each time (5.5).
 #[allow(clippy::too_many_arguments)]
 pub fn repair<'db>(
     db: &'db dyn Db,
@@ -162,28 +188,124 @@ pub fn repair<'db>(
     progress: &mut dyn FnMut(&Progress),
 ) -> RepairOutcome<'db> {
     let started = Instant::now();
-    let stage_config = config.clone();
-    let empty = |outcome: crate::planner::Outcome<'db>| RepairOutcome {
-        status: outcome.status,
-        stage: None,
-        plan: outcome.plan,
-        old: Vec::new(),
-        removed: Vec::new(),
-        stages: Vec::new(),
-        lints: outcome.lints,
-        stats: outcome.stats,
-    };
-    let prepared = match prepare(db, problem, &stage_config, limits) {
+    let mut prepared = match prepare(db, problem, config, limits) {
         Ok(p) => p,
-        Err(outcome) => return empty(*outcome),
+        Err(outcome) => {
+            return RepairOutcome {
+                status: outcome.status,
+                stage: None,
+                plan: outcome.plan,
+                old: Vec::new(),
+                removed: Vec::new(),
+                stages: Vec::new(),
+                dropped: Vec::new(),
+                lints: outcome.lints,
+                stats: outcome.stats,
+            };
+        }
     };
-    let mut r =
-        Repair::new(&prepared, &stage_config, old::read(&prepared.task, old_plan, &options.execution));
-    r.obsolete(options.flat);
+    let rounds = meetings(&prepared.task, &options.execution.unreachable);
+    let mut dropped: Vec<DroppedGoal> = Vec::new();
+    let mut dropped_lits = Vec::new();
+    let mut stages = Vec::new();
+    let mut round = 0;
+    loop {
+        let mut out = attempt(
+            db,
+            &prepared,
+            &dropped_lits,
+            old_plan,
+            config,
+            limits,
+            options,
+            started,
+            cancel,
+            progress,
+        );
+        stages.append(&mut out.stages);
+        out.stages = std::mem::take(&mut stages);
+        let retry = out.status == Status::NoPlan && !cancel();
+        let next = rounds.iter().skip(round).position(|r| !r.is_empty());
+        let (true, Some(k)) = (retry, next) else {
+            out.dropped = dropped;
+            return out;
+        };
+        round += k + 1;
+        let goals = &rounds[round - 1];
+        let task = &mut prepared.task;
+        for &(l, unreachable) in goals {
+            if task.goals.iter().any(|g| g.0 == l) {
+                dropped.push(DroppedGoal { goal: task.show_lit(l), unreachable });
+            }
+        }
+        task.goals.retain(|g| !goals.iter().any(|&(l, _)| l == g.0));
+        dropped_lits.extend(goals.iter().map(|&(l, _)| l));
+        stages = out.stages;
+    }
+}
+
+/// The meetings among the goals, in the order they are dropped: those an
+/// unreachable agent takes part in, then the others. A meeting is a goal
+/// that only actions of two agents or more achieve.
+fn meetings(
+    task: &crate::planner::task::Task<'_>,
+    unreachable: &[String],
+) -> [Vec<(crate::planner::task::Lit, bool)>; 2] {
+    let mut out = [Vec::new(), Vec::new()];
+    for &(l, _) in &task.goals {
+        // Every operator that makes it true, allowed or not.
+        let achievers: Vec<&crate::planner::task::Op<'_>> =
+            task.ops.iter().filter(|o| o.effs.iter().any(|e| e.lit == l)).collect();
+        if achievers.is_empty() || achievers.iter().any(|o| o.agents.len() < 2) {
+            continue;
+        }
+        let with_unreachable = achievers.iter().any(|o| {
+            o.agents
+                .iter()
+                .any(|&a| unreachable.iter().any(|u| u.eq_ignore_ascii_case(task.g.objects.name(a))))
+        });
+        out[usize::from(!with_unreachable)].push((l, with_unreachable));
+    }
+    // Dropping all of them includes those of the first round.
+    let first = out[0].clone();
+    out[1].extend(first);
+    out
+}
+
+/// Whether operator `op` makes one of the `dropped` goals true.
+fn achieves_dropped(prepared: &Prepared<'_>, dropped: &[crate::planner::task::Lit], op: u32) -> bool {
+    prepared.task.ops[op as usize].effs.iter().any(|e| dropped.contains(&e.lit))
+}
+
+/// One repair, stages and full replan, with the goals of `prepared`.
+#[allow(clippy::too_many_arguments)]
+fn attempt<'db>(
+    db: &'db dyn Db,
+    prepared: &Prepared<'db>,
+    dropped: &[crate::planner::task::Lit],
+    old_plan: &PlanFile,
+    config: &Config,
+    limits: &PlannerLimits,
+    options: &RepairOptions,
+    started: Instant,
+    cancel: &dyn Fn() -> bool,
+    progress: &mut dyn FnMut(&Progress),
+) -> RepairOutcome<'db> {
+    let mut steps = old::read(&prepared.task, old_plan, &options.execution);
+    // A step that achieves a dropped goal (a meeting) is no longer frozen by
+    // its unreachable agent: the meeting is cancelled (5.5). Executed steps stay.
+    for s in &mut steps {
+        if s.frozen && !s.fixed && s.op.is_ok_and(|o| achieves_dropped(prepared, dropped, o)) {
+            s.frozen = false;
+        }
+    }
+    let mut r = Repair::new(prepared, config, steps);
+    r.obsolete(options.flat, options.execution.now.unwrap_or(0.0));
     let stage_time = limits.time.map(|t| t / 4);
     let mut stages = Vec::new();
     let mut stage = Stage::Obsolete;
     let mut last = None;
+    let goals = prepared.task.goals.len();
     loop {
         let remaining = limits.time.map(|t| t.saturating_sub(started.elapsed()));
         let stage_limits = PlannerLimits {
@@ -195,10 +317,11 @@ pub fn repair<'db>(
         };
         let seed = r.seed();
         let kept = r.kept().count();
-        let outcome = prepared.search(db, &stage_config, &stage_limits, Some(&seed), cancel, progress);
+        let outcome = prepared.search(db, config, &stage_limits, Some(&seed), cancel, progress);
         stages.push(StageRun {
             stage,
             kept,
+            goals,
             status: outcome.status.clone(),
             expanded: outcome.stats.expanded,
             elapsed: outcome.stats.elapsed,
@@ -211,11 +334,12 @@ pub fn repair<'db>(
                 old: r.old,
                 removed: r.removed,
                 stages,
+                dropped: Vec::new(),
                 lints: Vec::new(),
                 stats: outcome.stats,
             };
         }
-        if cancel() {
+        if cancel() || remaining.is_some_and(|r| r.is_zero()) {
             last = Some(outcome);
             break;
         }
@@ -229,28 +353,30 @@ pub fn repair<'db>(
         }
         stage = Stage::Ring(ring);
     }
-    // The full replan, with the configuration as given.
+    // The full replan.
     let remaining = limits.time.map(|t| t.saturating_sub(started.elapsed()));
     let replan = match last {
         Some(outcome) => outcome,
         None => {
             let replan_limits = PlannerLimits { time: remaining, ..limits.clone() };
-            let outcome = match prepare(db, problem, config, limits) {
-                Ok(p) => p.search(db, config, &replan_limits, None, cancel, progress),
-                Err(outcome) => *outcome,
-            };
+            // Everything goes but the frozen steps: executed, running, or
+            // an unreachable agent's (they stay in any plan).
+            for i in 0..r.old.len() {
+                if r.why[i].is_none() && !r.old[i].frozen {
+                    r.remove(i, Why::Replan, Stage::Replan);
+                }
+            }
+            let frozen = r.kept().next().is_some();
+            let seed = frozen.then(|| r.seed());
+            let outcome = prepared.search(db, config, &replan_limits, seed.as_ref(), cancel, progress);
             stages.push(StageRun {
                 stage: Stage::Replan,
-                kept: 0,
+                kept: r.kept().count(),
+                goals,
                 status: outcome.status.clone(),
                 expanded: outcome.stats.expanded,
                 elapsed: outcome.stats.elapsed,
             });
-            for i in 0..r.old.len() {
-                if r.why[i].is_none() {
-                    r.remove(i, Why::Replan, Stage::Replan);
-                }
-            }
             outcome
         }
     };
@@ -261,6 +387,7 @@ pub fn repair<'db>(
         old: r.old,
         removed: r.removed,
         stages,
+        dropped: Vec::new(),
         lints: replan.lints,
         stats: replan.stats,
     }
@@ -354,7 +481,7 @@ impl<'p, 'db> Repair<'p, 'db> {
     }
 
     /// Stage 1: the obsolete steps, then the steps that support nothing.
-    fn obsolete(&mut self, flat: bool) {
+    fn obsolete(&mut self, flat: bool, now: f64) {
         let task = &self.prepared.task;
         // Only steps the planner inserted itself must be in 𝒜: the
         // subtasks of methods need not be, flattened or not.
@@ -398,6 +525,7 @@ impl<'p, 'db> Repair<'p, 'db> {
         }
         // The old plan's orderings and causal links, from the most complete
         // start plan the new task allows.
+        self.deadlines(now);
         self.learn_old_order();
         // Steps that support nothing, until none is left.
         while let Some((plan, of_seed, seed_steps)) = self.start_plan() {
@@ -425,6 +553,31 @@ impl<'p, 'db> Repair<'p, 'db> {
             }
             for i in idle {
                 self.remove_with_hierarchy(i, Why::SupportsNothing);
+            }
+        }
+    }
+
+    /// Figure 14, stages 3–4: while the steps still in cannot be scheduled
+    /// (a deadline, the end of a timed initial literal's window, is missed,
+    /// say after a step ran late), the steps between `now` and the next
+    /// deadline are removed, one deadline after the other.
+    fn deadlines(&mut self, now: f64) {
+        let mut times: Vec<f64> =
+            self.prepared.task.tils.iter().map(|t| t.time).filter(|&t| t > now).collect();
+        times.sort_by(f64::total_cmp);
+        times.dedup();
+        for deadline in times {
+            if self.start_plan().is_some() {
+                return;
+            }
+            let between: Vec<usize> = self
+                .kept()
+                .filter(|&i| !self.old[i].frozen && self.old[i].start >= now && self.old[i].start < deadline)
+                .collect();
+            for i in between {
+                if self.why[i].is_none() {
+                    self.remove_with_hierarchy(i, Why::Deadline(deadline));
+                }
             }
         }
     }
