@@ -69,7 +69,7 @@ fn repair_exit_statuses() {
     assert_eq!(status(&o), 0, "{}", stderr(&o));
     let err = stderr(&o);
     assert!(
-        err.contains("stage 1 (obsolete steps removed): 14 steps of the old plan kept, repaired"),
+        err.contains("stage 1 (obsolete steps removed): 14 steps of the old plan kept, 4 goals, repaired"),
         "{err}"
     );
     assert!(err.contains("10 actions kept, 0 removed, 3 added"), "{err}");
