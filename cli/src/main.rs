@@ -226,6 +226,10 @@ struct RepairArgs {
     /// repairFlat: discard the old plan's hierarchy, keep its actions.
     #[arg(long)]
     flat: bool,
+    /// Also plan from scratch (same configuration and limits) and print the
+    /// repair and the replan side by side: time, actions, makespan, instability.
+    #[arg(long)]
+    compare_replan: bool,
     /// The planner configuration (as for `hipop plan`).
     #[arg(long, value_name = "NAME", default_value = hipop_analyzer::planner::Config::DEFAULT, value_parser = plan::parse_config)]
     config: hipop_analyzer::planner::Config,
@@ -507,6 +511,7 @@ fn main() -> ExitCode {
                 color: args.color,
                 quiet: args.quiet,
                 stats: args.stats,
+                compare_replan: args.compare_replan,
             };
             ExitCode::from(repair::run(&args.domain, &args.problem, &args.old_plan, &options))
         }

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use hipop_analyzer::diagnostic::SHOWN_PER_FILE;
 use hipop_analyzer::plan::NameMatching;
 use hipop_analyzer::plan::diff::{DiffOptions, diff};
+use hipop_analyzer::planner::output::SolvedPlan;
 use hipop_analyzer::planner::{Config, PlannerLimits, Status};
 use hipop_analyzer::repair::{Execution, RepairOptions, Stage};
 use hipop_analyzer::{AnalysisHost, Severity};
@@ -24,6 +25,8 @@ pub struct Options {
     pub color: ColorWhen,
     pub quiet: bool,
     pub stats: bool,
+    /// Also plan from scratch and compare.
+    pub compare_replan: bool,
 }
 
 /// Exit status: 0 repaired, 1 no plan even after the full replan, 3 a limit
@@ -191,28 +194,74 @@ pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
         None => print_stdout(&text),
     }
     // The stability figures against the old plan, as `hipop diff` gives them.
-    if !options.quiet {
+    let repair_time: f64 = result.stages.iter().map(|s| s.elapsed.as_secs_f64()).sum();
+    let repaired = plan.clone();
+    let stage = result.stage;
+    drop(analysis);
+    let figures = |host: &mut AnalysisHost, name: &str, plan: &SolvedPlan| {
         let written = if plan.is_hierarchical() { plan.to_hierarchical("") } else { plan.to_val("") };
-        drop(analysis);
-        let fr = host.set_file_text("<repaired plan>.plan", written);
+        let fr = host.set_file_text(name, written);
         let analysis = host.analysis();
-        let figures = (|| {
-            let a = analysis.plan(fo, None).ok()?;
-            let b = analysis.plan(fr, None).ok()?;
-            let agents = analysis.plan_agents(files[0], NameMatching::CaseInsensitive).ok()?;
-            Some(diff(&a, &b, &agents, &DiffOptions::default()))
-        })();
-        if let Some(d) = figures {
-            eprintln!(
-                "repaired: {} action{} kept, {} removed, {} added, {} retimed; instability {}, distance {}",
-                d.matched.len(),
-                if d.matched.len() == 1 { "" } else { "s" },
-                d.removed.len(),
-                d.added.len(),
-                d.retimed.len(),
-                d.instability,
-                d.distance
-            );
+        let a = analysis.plan(fo, None).ok()?;
+        let b = analysis.plan(fr, None).ok()?;
+        let agents = analysis.plan_agents(files[0], NameMatching::CaseInsensitive).ok()?;
+        Some(diff(&a, &b, &agents, &DiffOptions::default()))
+    };
+    let mine = figures(&mut host, "<repaired plan>.plan", &repaired);
+    if !options.quiet
+        && let Some(d) = &mine
+    {
+        eprintln!(
+            "repaired: {} action{} kept, {} removed, {} added, {} retimed; instability {}, distance {}",
+            d.matched.len(),
+            if d.matched.len() == 1 { "" } else { "s" },
+            d.removed.len(),
+            d.added.len(),
+            d.retimed.len(),
+            d.instability,
+            d.distance
+        );
+    }
+    if options.compare_replan {
+        let replan =
+            match host.analysis().run_planner(fp, &options.config, &options.limits, &|| false, &mut |_| {}) {
+                Ok(Some(r)) => r,
+                Ok(None) => return 2,
+                Err(_) => return interrupted(),
+            };
+        let theirs = replan.plan.as_ref().and_then(|p| figures(&mut host, "<replanned plan>.plan", p));
+        let cell = |x: Option<String>| x.unwrap_or_else(|| "–".into());
+        let rows = [
+            (
+                "found",
+                stage.map_or_else(|| "by the full replan".into(), |s| s.describe()),
+                status_text(&replan.status).replace("repaired", "found"),
+            ),
+            ("time (s)", format!("{repair_time:.3}"), format!("{:.3}", replan.stats.elapsed.as_secs_f64())),
+            (
+                "actions",
+                repaired.primitive().count().to_string(),
+                cell(replan.plan.as_ref().map(|p| p.primitive().count().to_string())),
+            ),
+            (
+                "makespan",
+                format!("{:.3}", repaired.makespan),
+                cell(replan.plan.as_ref().map(|p| format!("{:.3}", p.makespan))),
+            ),
+            (
+                "instability",
+                cell(mine.as_ref().map(|d| d.instability.to_string())),
+                cell(theirs.as_ref().map(|d| d.instability.to_string())),
+            ),
+            (
+                "distance",
+                cell(mine.as_ref().map(|d| d.distance.to_string())),
+                cell(theirs.as_ref().map(|d| d.distance.to_string())),
+            ),
+        ];
+        eprintln!("{:<12} {:<40} replan", "", "repair");
+        for (name, a, b) in rows {
+            eprintln!("{name:<12} {a:<40} {b}");
         }
     }
     0

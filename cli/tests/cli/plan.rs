@@ -75,6 +75,19 @@ fn repair_exit_statuses() {
     assert!(err.contains("10 actions kept, 0 removed, 3 added"), "{err}");
     let o = hipop(&["validate", domain, &more, repaired_s]);
     assert_eq!(status(&o), 0, "{}", stderr(&o));
+    // Side by side with a replan from scratch.
+    let o = hipop(&["repair", domain, &more, old_s, "-o", repaired_s, "-q", "--compare-replan"]);
+    assert_eq!(status(&o), 0, "{}", stderr(&o));
+    let err = stderr(&o);
+    let row = |name: &str| {
+        err.lines()
+            .find(|l| l.starts_with(name))
+            .map(|l| l.split_whitespace().map(String::from).collect::<Vec<_>>())
+    };
+    assert_eq!(row("found").map(|r| r[1..3].join(" ")), Some("stage 1".to_string()), "{err}");
+    let instability = row("instability").unwrap_or_else(|| panic!("{err}"));
+    assert_eq!(instability[1], "3", "{err}");
+    assert!(instability[2].parse::<usize>().is_ok(), "{err}");
 
     let fewer = write("fewer.pddl", text.replace("calibrate_instrument get_image)", "calibrate_instrument)"));
     let o = hipop(&["repair", domain, &fewer, old_s, "--executed", "0"]);
