@@ -122,7 +122,7 @@ pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
                 continue;
             }
             let step = &result.old[r.step];
-            eprintln!("  removed {} (step {}): {}", step.call, step.id, r.why.describe());
+            eprintln!("  removed {} (step {}): {}", step.call, step.id, r.describe(&result.old));
         }
         for d in &result.dropped {
             eprintln!(

@@ -132,6 +132,17 @@ pub struct Removed {
     pub stage: Stage,
 }
 
+impl Removed {
+    /// Why it was removed, in words; for an obsolete step, what the new
+    /// problem lacks (`old` are the old plan's steps).
+    pub fn describe(&self, old: &[OldStep]) -> String {
+        match (self.why, old.get(self.step).map(|s| (&s.op, &s.call))) {
+            (Why::NoOperator, Some((Err(missing), call))) => missing.describe(call),
+            (why, _) => why.describe(),
+        }
+    }
+}
+
 /// One search of the repair.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StageRun {
@@ -292,6 +303,7 @@ fn attempt<'db>(
     progress: &mut dyn FnMut(&Progress),
 ) -> RepairOutcome<'db> {
     let mut steps = old::read(&prepared.task, old_plan, &options.execution);
+    old::explain(db, &prepared.task, old_plan, &mut steps);
     // A step that achieves a dropped goal (a meeting) is no longer frozen by
     // its unreachable agent: the meeting is cancelled (5.5). Executed steps stay.
     for s in &mut steps {
@@ -501,7 +513,7 @@ impl<'p, 'db> Repair<'p, 'db> {
                 continue;
             }
             let why = match self.old[i].op {
-                Err(Missing::NoOperator) => Some(Why::NoOperator),
+                Err(_) => Some(Why::NoOperator),
                 Ok(op) => {
                     let o = &task.ops[op as usize];
                     let htn_root = o.is_abstract && task.htn.is_some();

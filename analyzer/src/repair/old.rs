@@ -6,8 +6,12 @@
 
 use rustc_hash::FxHashMap;
 
+use crate::db::Db;
 use crate::plan::Plan as PlanFile;
 use crate::planner::task::Task;
+use crate::semantics::check::domain_for;
+use crate::semantics::symbols::domain_symbols;
+use crate::verify::state::ObjId;
 
 /// Why a step of the old plan has no operator in the new problem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -15,6 +19,34 @@ pub enum Missing {
     /// No action or task of that name and those arguments (the action was
     /// removed, an object is unknown, the arguments do not fit).
     NoOperator,
+    /// The domain has no action or task of that name.
+    UnknownAction,
+    /// This argument (its index) is not an object of the problem.
+    UnknownObject(u32),
+    /// Another number of arguments, or arguments of other types.
+    Arguments,
+    /// The action exists for these objects, but can never be executed in
+    /// the new problem: grounding leaves it out (a condition can never hold).
+    Unusable,
+}
+
+impl Missing {
+    /// Why, for a step written `call` (`(name arg…)`).
+    pub fn describe(self, call: &str) -> String {
+        match self {
+            Missing::NoOperator => "obsolete: no action or task of that name for these arguments".into(),
+            Missing::UnknownAction => "obsolete: the domain has no action or task of that name".into(),
+            Missing::UnknownObject(i) => {
+                let arg = call.trim_matches(|c| c == '(' || c == ')').split_whitespace().nth(i as usize + 1);
+                format!("obsolete: `{}` is not an object of the problem", arg.unwrap_or("?"))
+            }
+            Missing::Arguments => "obsolete: the arguments do not fit the action's parameters".into(),
+            Missing::Unusable => {
+                "obsolete: it can never be executed in the new problem (a condition of it can never hold)"
+                    .into()
+            }
+        }
+    }
 }
 
 /// One step of the old plan.
@@ -207,4 +239,38 @@ fn depth(steps: &[OldStep], mut i: usize) -> usize {
         }
     }
     d
+}
+
+/// Says why each step of the old plan without an operator has none: an
+/// unknown action or object, arguments that do not fit, or an instance
+/// that can never be executed.
+pub fn explain(db: &dyn Db, task: &Task<'_>, plan: &PlanFile, steps: &mut [OldStep]) {
+    let domain = domain_for(db, task.problem);
+    let symbols = domain.map(|d| domain_symbols(db, d));
+    for (s, old) in plan.steps.iter().zip(steps.iter_mut()) {
+        if old.op.is_ok() {
+            continue;
+        }
+        let key = s.name.text.to_lowercase();
+        let Some(decl) =
+            symbols.and_then(|t| t.actions.get(key.as_str()).or_else(|| t.tasks.get(key.as_str())))
+        else {
+            old.op = Err(Missing::UnknownAction);
+            continue;
+        };
+        let objects = &task.g.objects;
+        let ids: Vec<Option<ObjId>> = s.args.iter().map(|a| objects.id(&a.text.to_lowercase())).collect();
+        old.op = Err(if let Some(i) = ids.iter().position(Option::is_none) {
+            Missing::UnknownObject(i as u32)
+        } else if ids.len() != decl.params.len()
+            || ids.iter().zip(&decl.params).any(|(&o, param)| {
+                let o = o.unwrap_or_default();
+                !param.iter().any(|t| t.as_str() == "object" || objects.has_type(o, t))
+            })
+        {
+            Missing::Arguments
+        } else {
+            Missing::Unusable
+        });
+    }
 }
