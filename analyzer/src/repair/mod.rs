@@ -45,7 +45,7 @@ use crate::db::{Db, Unit};
 use crate::plan::Plan as PlanFile;
 use crate::planner::output::SolvedPlan;
 use crate::planner::search::{Search, Seed, SeedOrder, SeedStep};
-use crate::planner::stn::Tp;
+use crate::planner::stn::{EPS, Tp};
 use crate::planner::task::End;
 use crate::planner::{Config, Motion, PlannerLimits, Prepared, Progress, Stats, Status, prepare};
 use crate::verify::Lint;
@@ -311,7 +311,9 @@ fn attempt<'db>(
             s.frozen = false;
         }
     }
+    let by_name = old::links_by_name(db, &prepared.task, old_plan, &steps);
     let mut r = Repair::new(prepared, config, steps);
+    r.by_name = by_name;
     r.obsolete(options.flat, options.execution.now.unwrap_or(0.0));
     let stage_time = limits.time.map(|t| t / 4);
     let mut stages = Vec::new();
@@ -419,6 +421,8 @@ struct Repair<'p, 'db> {
     /// and its causal links, as steps of the old plan.
     phantoms: Vec<SeedOrder>,
     links: Vec<(usize, usize)>,
+    /// The old plan's causal links rebuilt by name (`old::links_by_name`).
+    by_name: Vec<(usize, usize)>,
     stage: Stage,
 }
 
@@ -434,6 +438,7 @@ impl<'p, 'db> Repair<'p, 'db> {
             frontier: Vec::new(),
             phantoms: Vec::new(),
             links: Vec::new(),
+            by_name: Vec::new(),
             stage: Stage::Obsolete,
         }
     }
@@ -539,6 +544,7 @@ impl<'p, 'db> Repair<'p, 'db> {
         // start plan the new task allows.
         self.deadlines(now);
         self.learn_old_order();
+        self.through_removed();
         // Steps that support nothing, until none is left.
         while let Some((plan, of_seed, seed_steps)) = self.start_plan() {
             // A link supports its producer and the abstract steps above it
@@ -727,6 +733,50 @@ impl<'p, 'db> Repair<'p, 'db> {
         let search = Search::new(&self.prepared.task, &self.prepared.h, &analysis);
         let (plan, of_seed) = search.seeded(&seed).ok()?.into_iter().next()?;
         Some((plan, of_seed, kept))
+    }
+
+    /// The links and orderings of the old plan through the steps removed
+    /// before [`Repair::learn_old_order`] (those the new task cannot ground
+    /// or no longer allows, which its start plan cannot hold), from the
+    /// links rebuilt by name: the next ring is around them, and the order
+    /// of the steps that stay, through them, is kept (phantom links).
+    fn through_removed(&mut self) {
+        let gone: Vec<bool> = self.why.iter().map(Option::is_some).collect();
+        let by_name = std::mem::take(&mut self.by_name);
+        self.links.extend(by_name.iter().copied().filter(|&(a, b)| gone[a] || gone[b]));
+        for a in (0..self.old.len()).filter(|&a| !gone[a]) {
+            let mut seen = FxHashSet::default();
+            let mut stack: Vec<usize> =
+                by_name.iter().filter(|&&(x, y)| x == a && gone[y]).map(|&(_, y)| y).collect();
+            let mut reached = Vec::new();
+            while let Some(x) = stack.pop() {
+                if !seen.insert(x) {
+                    continue;
+                }
+                for &(_, y) in by_name.iter().filter(|&&(x2, _)| x2 == x) {
+                    if gone[y] {
+                        stack.push(y);
+                    } else if y != a {
+                        reached.push(y);
+                    }
+                }
+            }
+            reached.sort_unstable();
+            reached.dedup();
+            for b in reached {
+                // In the old schedule's order, ε apart at least.
+                let (sa, ea, sb) = (self.old[a].start, self.old[a].end, self.old[b].start);
+                let from = if ea + EPS <= sb + 1e-6 {
+                    (a, End::End)
+                } else if sa + EPS <= sb + 1e-6 {
+                    (a, End::Start)
+                } else {
+                    continue;
+                };
+                self.phantoms.push(SeedOrder { from, to: (b, End::Start) });
+            }
+        }
+        self.by_name = by_name;
     }
 
     /// Learns the old plan's order and causal links from the start plan of

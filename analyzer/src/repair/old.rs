@@ -6,11 +6,12 @@
 
 use rustc_hash::FxHashMap;
 
-use crate::db::Db;
+use crate::db::{Db, Item, Unit};
 use crate::plan::Plan as PlanFile;
 use crate::planner::task::Task;
 use crate::semantics::check::domain_for;
 use crate::semantics::symbols::domain_symbols;
+use crate::verify::lifted::{LAtom, LTerm, operator};
 use crate::verify::state::ObjId;
 
 /// Why a step of the old plan has no operator in the new problem.
@@ -241,6 +242,13 @@ fn depth(steps: &[OldStep], mut i: usize) -> usize {
     d
 }
 
+/// The action or task a step names in the problem's domain, if any.
+fn schema<'db>(db: &'db dyn Db, domain: Option<Unit<'db>>, name: &str) -> Option<Item<'db>> {
+    let symbols = domain_symbols(db, domain?);
+    let key = name.to_lowercase();
+    symbols.actions.get(key.as_str()).or_else(|| symbols.tasks.get(key.as_str())).map(|d| d.loc.item)
+}
+
 /// Says why each step of the old plan without an operator has none: an
 /// unknown action or object, arguments that do not fit, or an instance
 /// that can never be executed.
@@ -273,4 +281,84 @@ pub fn explain(db: &dyn Db, task: &Task<'_>, plan: &PlanFile, steps: &mut [OldSt
             Missing::Unusable
         });
     }
+}
+
+/// The causal links of the old plan rebuilt by name from the domain's
+/// actions and tasks (their conditions and effects, either end), as
+/// `(producer, consumer)`: each condition of a step is supported by the
+/// step that made it last before it in the old schedule. They tell what
+/// the steps the new task cannot ground (an object gone, an action no
+/// longer allowed) supported and needed.
+pub fn links_by_name(
+    db: &dyn Db,
+    task: &Task<'_>,
+    plan: &PlanFile,
+    steps: &[OldStep],
+) -> Vec<(usize, usize)> {
+    let domain = domain_for(db, task.problem);
+    type Atoms = Vec<(bool, String)>;
+    let ground = |s: &crate::plan::Step| -> Option<(Atoms, Atoms)> {
+        let op = operator(db, schema(db, domain, &s.name.text)?).as_ref()?;
+        let args: Vec<String> = s.args.iter().map(|a| a.text.to_lowercase().to_string()).collect();
+        let atom = |a: &LAtom| -> Option<String> {
+            let mut k = a.pred.to_string();
+            for t in &a.args {
+                k.push(' ');
+                match t {
+                    LTerm::Param(i) => k.push_str(args.get(*i as usize)?),
+                    LTerm::Const(c) => k.push_str(c),
+                    LTerm::Free(_) => return None,
+                }
+            }
+            Some(k)
+        };
+        let signed = |atoms: &[LAtom], sign: bool| {
+            atoms.iter().filter_map(|a| Some((sign, atom(a)?))).collect::<Atoms>()
+        };
+        let mut needs = signed(&op.pre.pos, true);
+        needs.extend(signed(&op.pre.neg, false));
+        let mut makes = signed(&op.add, true);
+        makes.extend(signed(&op.del, false));
+        Some((needs, makes))
+    };
+    let grounded: Vec<Option<(Atoms, Atoms)>> = plan.steps.iter().map(ground).collect();
+    let above = |mut c: usize, a: usize| {
+        for _ in 0..steps.len() {
+            match steps[c].parent {
+                Some(p) if p == a => return true,
+                Some(p) => c = p,
+                None => return false,
+            }
+        }
+        false
+    };
+    const SLACK: f64 = 1e-6;
+    let mut links = Vec::new();
+    for (c, g) in grounded.iter().enumerate() {
+        let Some((needs, _)) = g else { continue };
+        let (start, end) = (steps[c].start, steps[c].end);
+        for need in needs {
+            // The last producer ended before it started, else the last one
+            // that started before it (an effect at the start, or a
+            // condition at the end).
+            let producers = grounded.iter().enumerate().filter(|&(p, g)| {
+                p != c && !above(c, p) && g.as_ref().is_some_and(|(_, makes)| makes.contains(need))
+            });
+            let best = producers
+                .clone()
+                .filter(|&(p, _)| steps[p].end <= start + SLACK)
+                .max_by(|a, b| steps[a.0].end.total_cmp(&steps[b.0].end))
+                .or_else(|| {
+                    producers
+                        .filter(|&(p, _)| steps[p].start <= start + SLACK && steps[p].end <= end + SLACK)
+                        .max_by(|a, b| steps[a.0].start.total_cmp(&steps[b.0].start))
+                });
+            if let Some((p, _)) = best {
+                links.push((p, c));
+            }
+        }
+    }
+    links.sort_unstable();
+    links.dedup();
+    links
 }
