@@ -119,6 +119,9 @@ pub struct Plan {
     pub clock: u32,
     /// Where each itinerary stands (geometric reasoning, [`super::itinerary`]).
     pub tails: Rc<Vec<Tail>>,
+    /// The earliest start of a step added from now on: a repair of a
+    /// partially executed plan cannot start anything in the past (0: none).
+    pub not_before: f64,
 }
 
 pub const INIT: u32 = 0;
@@ -139,6 +142,7 @@ impl Plan {
             goal_tp,
             clock: 0,
             tails: Rc::new(Vec::new()),
+            not_before: 0.0,
         };
         p.steps.push(Step {
             kind: Kind::Init,
@@ -327,6 +331,9 @@ impl Plan {
             }
         }
         if !self.stn.add(end, self.goal_tp, EPS) {
+            return None;
+        }
+        if self.not_before > 0.0 && !self.stn.add(ORIGIN, start, self.not_before) {
             return None;
         }
         if let Some(p) = parent {

@@ -329,7 +329,7 @@ fn attempt<'db>(
             },
             ..limits.clone()
         };
-        let seed = r.seed();
+        let seed = Seed { now: options.execution.now, ..r.seed() };
         let kept = r.kept().count();
         let outcome = prepared.search(db, config, &stage_limits, Some(&seed), cancel, progress);
         stages.push(StageRun {
@@ -720,7 +720,7 @@ impl<'p, 'db> Repair<'p, 'db> {
         } else {
             Vec::new()
         };
-        (Seed { steps, orders }, kept)
+        (Seed { steps, orders, now: None }, kept)
     }
 
     /// The start plan of the steps still in, without phantoms and without

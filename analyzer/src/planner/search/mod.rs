@@ -103,7 +103,7 @@ pub struct Search<'a, 'db> {
 
 /// How a search ended.
 pub enum End2 {
-    Solved(Plan),
+    Solved(Box<Plan>),
     Exhausted,
     Limit(LimitKind),
 }
@@ -264,7 +264,7 @@ impl<'a, 'db> Search<'a, 'db> {
             }
             let Some(flaw) = self.select(&mut plan) else {
                 stats.elapsed = started.elapsed();
-                return End2::Solved(plan);
+                return End2::Solved(Box::new(plan));
             };
             let completes = Self::completes(&flaw);
             let scored = self.expand(&plan, flaw, stats, &mut |c| keep_best(c, best, &mut best_effort));
@@ -292,7 +292,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 let first = first.into_iter().map(|s| s.plan.clone()).collect();
                 if let Some(found) = self.probe(first, budget, stats, &time_up) {
                     stats.elapsed = started.elapsed();
-                    return End2::Solved(found);
+                    return End2::Solved(Box::new(found));
                 }
             }
             for c in scored {

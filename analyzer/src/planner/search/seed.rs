@@ -50,6 +50,9 @@ pub struct SeedOrder {
 pub struct Seed {
     pub steps: Vec<SeedStep>,
     pub orders: Vec<SeedOrder>,
+    /// The time of the repair in a partially executed plan: every step but
+    /// the fixed ones, and every step the search adds, starts at or after it.
+    pub now: Option<f64>,
 }
 
 /// A start plan, with the seed step of each of its steps.
@@ -163,9 +166,15 @@ impl Search<'_, '_> {
             times.0.insert(step.start, seed.steps[i].start);
             times.0.insert(step.end, seed.steps[i].end);
         }
-        // Fixed times, then the orderings kept.
+        // Fixed times, nothing else before now, then the orderings kept.
+        if let Some(now) = seed.now.filter(|&t| t > 0.0) {
+            p.not_before = now;
+        }
         for (i, st) in seed.steps.iter().enumerate() {
             let step = p.steps[id[i] as usize];
+            if !st.fixed && p.not_before > 0.0 && !p.stn.add(ORIGIN, step.start, p.not_before) {
+                return Err(SeedError::Inconsistent);
+            }
             if st.fixed
                 && !(p.stn.add(ORIGIN, step.start, st.start) && p.stn.add(step.start, ORIGIN, -st.start))
             {
