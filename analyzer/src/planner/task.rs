@@ -218,6 +218,22 @@ impl<'db> Task<'db> {
         crate::verify::ground::show(&o.name, &o.args, &self.g.objects)
     }
 
+    /// Recomputes [`Task::achievers`] after a change of 𝒜 or of the methods.
+    pub fn rebuild_achievers(&mut self) {
+        self.achievers.clear();
+        for (i, op) in self.ops.iter().enumerate() {
+            if !op.allowed || op.dead || (op.is_abstract && op.methods.is_empty()) {
+                continue;
+            }
+            for e in &op.effs {
+                let v = self.achievers.entry(e.lit).or_default();
+                if !v.iter().any(|(o, _)| *o == i as u32) {
+                    v.push((i as u32, e.at));
+                }
+            }
+        }
+    }
+
     /// Whether an atom is a position of a group with move actions.
     pub fn motion_of(&self, atom: AtomId) -> Option<(&MotionGroup, u32, u32)> {
         let (group, pos) = self.family.get(atom as usize).copied().flatten()?;

@@ -43,6 +43,7 @@ use rustc_hash::FxHashSet;
 
 use crate::db::{Db, Unit};
 use crate::plan::Plan as PlanFile;
+use crate::planner::heuristic::Heuristic;
 use crate::planner::output::SolvedPlan;
 use crate::planner::search::{Search, Seed, SeedOrder, SeedStep};
 use crate::planner::stn::{EPS, Tp};
@@ -215,6 +216,7 @@ pub fn repair<'db>(
             };
         }
     };
+    out_of_reach(&mut prepared, &options.execution.unreachable);
     let rounds = meetings(&prepared.task, &options.execution.unreachable);
     let mut dropped: Vec<DroppedGoal> = Vec::new();
     let mut dropped_lits = Vec::new();
@@ -405,6 +407,36 @@ fn attempt<'db>(
         lints: replan.lints,
         stats: replan.stats,
     }
+}
+
+/// Section 5.4: an agent out of communication cannot learn of a new step.
+/// No step of an unreachable agent is inserted, neither to support a
+/// condition nor by a method; those of the old plan are frozen (the seed
+/// keeps them, with their refinements).
+fn out_of_reach(prepared: &mut Prepared<'_>, unreachable: &[String]) {
+    let task = &mut prepared.task;
+    let out: Vec<bool> = task
+        .ops
+        .iter()
+        .map(|o| {
+            o.agents.iter().any(|&a| {
+                let name = task.g.objects.name(a);
+                unreachable.iter().any(|u| u.eq_ignore_ascii_case(name))
+            })
+        })
+        .collect();
+    if !out.contains(&true) {
+        return;
+    }
+    let methods = &task.methods;
+    for (op, &out_of_reach) in task.ops.iter_mut().zip(&out) {
+        if out_of_reach {
+            op.allowed = false;
+        }
+        op.methods.retain(|&m| !methods[m as usize].subtasks.iter().any(|&(_, s)| out[s as usize]));
+    }
+    task.rebuild_achievers();
+    prepared.h = Heuristic::new(&prepared.task);
 }
 
 /// The state of a repair: which steps of the old plan are still in.

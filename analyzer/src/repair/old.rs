@@ -183,7 +183,20 @@ pub fn read(task: &Task<'_>, plan: &PlanFile, execution: &Execution) -> Vec<OldS
             steps[i].end = 0.0;
         }
     }
-    // Methods: the instance of that name whose subtasks are the children's operators.
+    // Methods: the instance of that name whose subtasks are the children's
+    // operators. From every instance of the task, also those the search
+    // may no longer use (a subtask of an unreachable agent's).
+    let mut instances: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
+    for s in &steps {
+        if let (Ok(op), Some(_)) = (s.op, &s.method_name) {
+            instances.entry(op).or_default();
+        }
+    }
+    for (m, mi) in task.methods.iter().enumerate() {
+        if let Some(v) = instances.get_mut(&mi.task) {
+            v.push(m as u32);
+        }
+    }
     for i in 0..steps.len() {
         let (Ok(op), Some(name)) = (&steps[i].op, &steps[i].method_name) else { continue };
         let mut children: Vec<u32> = Vec::new();
@@ -198,7 +211,7 @@ pub fn read(task: &Task<'_>, plan: &PlanFile, execution: &Execution) -> Vec<OldS
             continue;
         }
         children.sort_unstable();
-        steps[i].method = task.ops[*op as usize].methods.iter().copied().find(|&m| {
+        steps[i].method = instances.get(op).into_iter().flatten().copied().find(|&m| {
             let mi = &task.methods[m as usize];
             let mut subs: Vec<u32> = mi.subtasks.iter().map(|&(_, o)| o).collect();
             subs.sort_unstable();
