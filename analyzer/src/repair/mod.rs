@@ -382,8 +382,10 @@ fn attempt<'db>(
                     r.remove(i, Why::Replan, Stage::Replan);
                 }
             }
+            // With --now, nothing new starts before now, also here.
             let frozen = r.kept().next().is_some();
-            let seed = frozen.then(|| r.seed());
+            let seed = (frozen || options.execution.now.is_some())
+                .then(|| Seed { now: options.execution.now, ..r.seed() });
             let outcome = prepared.search(db, config, &replan_limits, seed.as_ref(), cancel, progress);
             stages.push(StageRun {
                 stage: Stage::Replan,
