@@ -47,6 +47,7 @@ mod diff;
 mod hostile;
 mod lsp;
 mod plan;
+mod repair;
 mod validate;
 
 /// A temporary file removed on drop.

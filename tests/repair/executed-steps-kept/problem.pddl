@@ -1,0 +1,5 @@
+(define (problem site-1)
+  (:domain site)
+  (:objects c1 - camera z1 z2 z3 - zone)
+  (:init (quiet))
+  (:goal (and (photographed z1) (drilled z2) (photographed z3))))

@@ -1,0 +1,6 @@
+(define (problem lab-3)
+  (:domain lab)
+  (:objects m1 m2 m3 - machine k1 k3 k4 - kit s1 s2 s3 - sample)
+  (:init (fits k3 m1) (fits k1 m1) (fits k1 m2) (fits k4 m3) (unused k1) (unused k3) (unused k4)
+         (suits s1 m1) (suits s2 m1) (suits s2 m2) (suits s3 m3) (have s1) (have s2) (have s3))
+  (:goal (and (analyzed s1) (analyzed s2) (analyzed s3))))

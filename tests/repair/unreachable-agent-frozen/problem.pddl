@@ -1,0 +1,6 @@
+(define (problem wells-1)
+  (:domain wells)
+  (:objects r1 r2 - robot p1 - probe w1 w2 - well)
+  (:init (carries r1 p1))
+  (:goal (and (inspected w1) (inspected w2)))
+  (:allowed-actions inspect))
