@@ -106,7 +106,7 @@ pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
     if !options.quiet {
         for s in &result.stages {
             eprintln!(
-                "{}: {} step{} of the old plan kept, {} goal{}, {}, {} plans expanded in {:.3} s",
+                "{}: {} step{} of the old plan kept, {} goal{}, {}, {} plan{} expanded in {:.3} s",
                 s.stage.describe(),
                 s.kept,
                 if s.kept == 1 { "" } else { "s" },
@@ -114,6 +114,7 @@ pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
                 if s.goals == 1 { "" } else { "s" },
                 status_text(&s.status),
                 s.expanded,
+                if s.expanded == 1 { "" } else { "s" },
                 s.elapsed.as_secs_f64()
             );
         }
