@@ -31,6 +31,7 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config as RunnerConfig, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 
 mod mutation;
+#[path = "../common/random_problem.rs"]
 mod problem;
 mod reference;
 

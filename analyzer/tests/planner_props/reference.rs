@@ -36,18 +36,6 @@ pub(crate) fn bit(p: &Problem, pred: usize, args: &[usize]) -> State {
     1u128 << i
 }
 
-pub(crate) fn tuples(p: &Problem, types: &[usize]) -> Vec<Vec<usize>> {
-    let mut out = vec![Vec::new()];
-    for &t in types {
-        let fits: Vec<usize> = (0..p.objects.len()).filter(|&o| p.subtype(p.objects[o], t)).collect();
-        out = out
-            .iter()
-            .flat_map(|prefix| fits.iter().map(move |&o| [prefix.clone(), vec![o]].concat()))
-            .collect();
-    }
-    out
-}
-
 /// The ground actions (those of 𝒜 when `allowed`).
 pub(crate) fn ground_ops(p: &Problem, allowed: bool) -> Vec<GroundOp> {
     let mut ops = Vec::new();

@@ -1,12 +1,11 @@
 //! Random small temporal problems: the types, the generator (raw choices,
 //! shrinking towards 0 and shorter lists, then resolved against the types)
-//! and their PDDL text.
+//! and their PDDL text. Shared by the property tests of the planner
+//! (`planner_props`) and of the repair (`repair_props`).
 
 use std::fmt::Write as _;
 
 use proptest::prelude::*;
-
-use super::reference::tuples;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum When {
@@ -169,6 +168,19 @@ impl Problem {
         s.push_str(")\n");
         s
     }
+}
+
+/// The tuples of objects of these types (subtypes included).
+pub(crate) fn tuples(p: &Problem, types: &[usize]) -> Vec<Vec<usize>> {
+    let mut out = vec![Vec::new()];
+    for &t in types {
+        let fits: Vec<usize> = (0..p.objects.len()).filter(|&o| p.subtype(p.objects[o], t)).collect();
+        out = out
+            .iter()
+            .flat_map(|prefix| fits.iter().map(move |&o| [prefix.clone(), vec![o]].concat()))
+            .collect();
+    }
+    out
 }
 
 // ---------------------------------------------------------------------------
