@@ -209,3 +209,32 @@ fn a_meeting_that_cannot_be_kept_is_dropped() {
     // still asks for the meeting, so its validation reports that goal only.
     assert!(errors.iter().all(|e| e.contains("met")), "{errors:?}");
 }
+
+/// A step executed at time 0 happens after the initial state, as VAL has
+/// it: what it deletes there no longer holds for the goal. Fixing it at 0
+/// put it at or before the origin, where its deletion threatened nothing,
+/// and the repair returned the old plan, which misses a goal (found by
+/// `repair_props`).
+#[test]
+fn a_step_executed_at_time_zero_comes_after_the_initial_state() {
+    let text = "(define (domain d) (:requirements :strips :negative-preconditions :durative-actions)
+           (:predicates (p1))
+           (:action a0 :parameters () :precondition (and) :effect (not (p1)))
+           (:durative-action a1 :parameters () :duration (= ?duration 1)
+             :condition (and) :effect (at start (p1))))
+         (define (problem pr) (:domain d) (:init (p1)) (:goal (and (not (p1)) (p1))))";
+    let mut host = AnalysisHost::new();
+    let p = host.set_file_text("problem.pddl", text.to_string());
+    let old = host.set_file_text("old.plan", "0: (a0)\n".to_string());
+    let limits = PlannerLimits { time: Some(std::time::Duration::from_secs(30)), ..PlannerLimits::default() };
+    let options = RepairOptions {
+        execution: hipop_analyzer::repair::Execution { now: Some(0.0), ..Default::default() },
+        ..RepairOptions::default()
+    };
+    let result = host
+        .analysis()
+        .run_repair(p, old, None, &Config::default(), &limits, &options, &|| false, &mut |_| {})
+        .unwrap()
+        .unwrap();
+    assert_eq!(result.status, Status::NoPlan, "{:?}", result.plan.map(|p| p.to_val("")));
+}

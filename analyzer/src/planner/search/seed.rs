@@ -78,6 +78,18 @@ impl OldTimes {
     }
 }
 
+/// Fixes time point `tp` at time `t`. At time 0, the bound above is a
+/// hair over it: `t_0 ≥ t_tp − 0` would close `tp` before the origin,
+/// where its effects would come before the initial state and threaten no
+/// link from it (VAL applies them after it, at 0).
+fn fix(p: &mut Plan, tp: Tp, t: f64) -> bool {
+    let upper = if t > 0.0 { -t } else { -AT_ORIGIN };
+    p.stn.add(ORIGIN, tp, t) && p.stn.add(tp, ORIGIN, upper)
+}
+
+/// How far after the origin a step fixed at time 0 may be.
+const AT_ORIGIN: f64 = 1e-9;
+
 impl Search<'_, '_> {
     /// The start plans for `seed`: the initial plans (goals, timed literals,
     /// `:htn`) with the seed's steps, each open link of theirs supported
@@ -175,12 +187,10 @@ impl Search<'_, '_> {
             if !st.fixed && p.not_before > 0.0 && !p.stn.add(ORIGIN, step.start, p.not_before) {
                 return Err(SeedError::Inconsistent);
             }
-            if st.fixed
-                && !(p.stn.add(ORIGIN, step.start, st.start) && p.stn.add(step.start, ORIGIN, -st.start))
-            {
+            if st.fixed && !fix(&mut p, step.start, st.start) {
                 return Err(SeedError::Inconsistent);
             }
-            if st.done && !(p.stn.add(ORIGIN, step.end, st.end) && p.stn.add(step.end, ORIGIN, -st.end)) {
+            if st.done && !fix(&mut p, step.end, st.end) {
                 return Err(SeedError::Inconsistent);
             }
         }
