@@ -402,6 +402,11 @@ impl Plan {
         // ordering. An abstract step's effect holds once the subtask that
         // makes it has ended: the same happening as the step's end, no ε.
         let sep = if o.origin == OpenOrigin::AbstractEffect { 0.0 } else { EPS };
+        self.add_link_after(task, from, from_tp, o, sep)
+    }
+
+    /// [`Plan::add_link`], the need at least `sep` after the producer.
+    pub fn add_link_after(&mut self, task: &Task<'_>, from: u32, from_tp: Tp, o: &Open, sep: f64) -> bool {
         if from_tp != o.need && !self.stn.add(from_tp, o.need, sep) {
             return false;
         }

@@ -276,6 +276,21 @@ fn repair_executed_steps_kept() {
     assert!(!steps_of(&stdout(&o)).iter().any(|s| s.0 == "(set-up c1)"), "not executed: removed");
 }
 
+/// Executed steps at time 0, as other planners write plans (hipop's start
+/// 0.01 after the initial state when they read it): at time 1, m2's
+/// calibration is under way and has used k1 up. It stays at 0, reading the
+/// initial state there, and its use of k1 at 0 forbids calibrating m1 with
+/// k1 again: the ring moves the analysis of s1 to m2.
+#[test]
+fn repair_executed_at_time_zero() {
+    let run = repair("executed-at-time-zero", "", &["--now", "1"]);
+    assert_eq!(run.status, 0, "{}", run.report);
+    assert_eq!(run.found_by(), "stage 2 (ring 1 of steps around those removed)");
+    assert_eq!(run.start("(calibrate m2 k1)"), 0.0, "running: at its old time");
+    assert!(!run.steps().iter().any(|s| s.0 == "(calibrate m1 k1)"), "k1 is used up:\n{}", run.plan);
+    run.start("(analyze m2 s1)");
+}
+
 /// An unreachable agent's steps frozen (`--unreachable r1`): r1 goes on
 /// with its inspection of w2 although nothing needs it any more, and the
 /// repair gives r1 nothing new: both new wells go to r2.

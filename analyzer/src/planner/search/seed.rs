@@ -244,7 +244,15 @@ impl Search<'_, '_> {
             };
             let mut c = p.clone();
             let open = c.remove_open(i);
-            if c.add_link(self.task, s, tp, &open) {
+            // A step executed at time 0 (other planners start there) reads
+            // the initial state in the same happening, no ε after it.
+            let at_origin = s == INIT && need < EPS && !p.stn.allows(ORIGIN, open.need, EPS);
+            let linked = if at_origin {
+                c.add_link_after(self.task, s, tp, &open, 0.0)
+            } else {
+                c.add_link(self.task, s, tp, &open)
+            };
+            if linked {
                 *p = c;
             } else {
                 i += 1;

@@ -1,0 +1,6 @@
+(define (problem lab-2)
+  (:domain lab)
+  (:objects m1 m2 - machine k1 k3 - kit s1 s2 - sample)
+  (:init (fits k3 m1) (fits k1 m1) (fits k1 m2) (unused k1) (unused k3)
+         (suits s1 m1) (suits s1 m2) (suits s2 m2) (have s1) (have s2))
+  (:goal (and (analyzed s1) (analyzed s2))))
