@@ -63,11 +63,12 @@ pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
         Ok(d) => errors.extend(d.into_iter().filter(|d| d.severity == Severity::Error)),
         Err(_) => return interrupted(),
     }
-    if !errors.is_empty() {
-        let sources = Sources::new(&analysis, &files);
+    // The diagnostics of the three files, compiler-style, on standard error.
+    let emit = |analysis: &hipop_analyzer::Analysis, diagnostics: &[hipop_analyzer::Diagnostic]| {
+        let sources = Sources::new(analysis, &files);
         let rendered = Rendered {
             sources: &sources,
-            diagnostics: &errors,
+            diagnostics,
             io_errors: &[],
             files: 3,
             max_per_file: SHOWN_PER_FILE,
@@ -75,6 +76,9 @@ pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
         let mut stream = crate::render::stderr(options.color);
         rendered.emit_human(&mut stream);
         let _ = std::io::Write::flush(&mut stream);
+    };
+    if !errors.is_empty() {
+        emit(&analysis, &errors);
         eprintln!(
             "error: {}",
             if model_errors {
@@ -150,18 +154,7 @@ pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
             Status::Limit(_) => (3, "no plan before the limit"),
             _ => (2, "not repaired: the planner cannot plan this problem"),
         };
-        let diagnostics = result.diagnostics;
-        let sources = Sources::new(&analysis, &files);
-        let rendered = Rendered {
-            sources: &sources,
-            diagnostics: &diagnostics,
-            io_errors: &[],
-            files: 3,
-            max_per_file: SHOWN_PER_FILE,
-        };
-        let mut stream = crate::render::stderr(options.color);
-        rendered.emit_human(&mut stream);
-        let _ = std::io::Write::flush(&mut stream);
+        emit(&analysis, &result.diagnostics);
         eprintln!("error: {what}");
         return code;
     };
