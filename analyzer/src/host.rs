@@ -330,10 +330,7 @@ impl Analysis {
         options: &crate::input::ValidationOptions,
     ) -> Cancellable<Option<crate::validate::Validation>> {
         self.with_db(|db| {
-            let unit = crate::db::file_units(db, problem)
-                .iter()
-                .copied()
-                .find(|u| u.kind(db) == crate::db::UnitKind::Problem)?;
+            let unit = first_problem(db, problem)?;
             Some(crate::validate::validate_plan(db, plan, format, unit, options))
         })
     }
@@ -352,10 +349,7 @@ impl Analysis {
     ) -> Cancellable<Option<PlanningResult>> {
         let db = &self.db;
         let run = AssertUnwindSafe(move || {
-            let unit = crate::db::file_units(db, problem)
-                .iter()
-                .copied()
-                .find(|u| u.kind(db) == crate::db::UnitKind::Problem)?;
+            let unit = first_problem(db, problem)?;
             let out = crate::planner::plan(db, unit, config, limits, cancel, progress);
             Some(PlanningResult {
                 status: out.status,
@@ -384,10 +378,7 @@ impl Analysis {
     ) -> Cancellable<Option<RepairResult>> {
         let db = &self.db;
         let run = AssertUnwindSafe(move || {
-            let unit = crate::db::file_units(db, problem)
-                .iter()
-                .copied()
-                .find(|u| u.kind(db) == crate::db::UnitKind::Problem)?;
+            let unit = first_problem(db, problem)?;
             let plan = match format {
                 Some(f) => crate::plan::parse_plan_as(db, old, f),
                 None => crate::plan::parse_plan(db, old),
@@ -424,4 +415,9 @@ impl Analysis {
     pub fn plan_agents(&self, domain: SourceFile, matching: NameMatching) -> Cancellable<AgentTable> {
         self.with_db(|db| AgentTable::from_domain(db, domain, matching))
     }
+}
+
+/// The first problem of a file.
+fn first_problem<'db>(db: &'db dyn crate::db::Db, file: SourceFile) -> Option<crate::db::Unit<'db>> {
+    crate::db::file_units(db, file).iter().copied().find(|u| u.kind(db) == crate::db::UnitKind::Problem)
 }
