@@ -82,6 +82,29 @@ pub fn survivors_problem(params: survivors::Params, seed: u64, witness: bool) ->
     files
 }
 
+/// The survivors-repair set (paper, section 5.2): the repair set's
+/// `domain.pddl`, then for each of the 72 problems its initial problem
+/// `STEM.pddl` and the problems after each event, `STEM-startingPos.pddl`,
+/// `STEM-newSurvivor.pddl` and `STEM-survivorPos.pddl`, in a fixed order.
+pub fn survivors_repair(seed: u64) -> Vec<(String, String)> {
+    let mut files = vec![("domain.pddl".to_string(), survivors::domain::repair_domain())];
+    for params in survivors::Params::grid() {
+        files.extend(survivors_repair_problem(params, seed));
+    }
+    files
+}
+
+/// The initial problem of one problem of the survivors-repair set and its
+/// three events' problems.
+pub fn survivors_repair_problem(params: survivors::Params, seed: u64) -> Vec<(String, String)> {
+    use survivors::repair::{Event, problem, stem};
+    let map = survivors::Map::new(params, seed);
+    std::iter::once(None)
+        .chain(Event::ALL.map(Some))
+        .map(|e| (format!("{}.pddl", stem(params, e)), problem(&map, e, seed)))
+        .collect()
+}
+
 fn render(world: &World, prov: &Provenance) -> (String, String) {
     (emit::domain(world, prov), emit::problem(world, prov))
 }

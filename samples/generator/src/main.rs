@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use hipop_samplegen::{DEFAULT_SEED, big, satellite, surveillance, survivors};
+use hipop_samplegen::{DEFAULT_SEED, big, satellite, surveillance, survivors, survivors_repair};
 
 const HELP: &str = "\
 hipop-samplegen: deterministic generator of hipop sample missions.
@@ -16,6 +16,7 @@ USAGE:
     hipop-samplegen surveillance [--seed N] [--out DIR]
     hipop-samplegen big --size-mb N [--seed N] [--out DIR]
     hipop-samplegen survivors [--seed N] [--witness] [--out DIR]
+    hipop-samplegen survivors-repair [--seed N] [--out DIR]
     hipop-samplegen satellite-abstract --corpus DIR [--out DIR]
     hipop-samplegen --help
 
@@ -34,6 +35,12 @@ COMMANDS:
                     and 72 problems, p-tT-rR-zZ-sS.pddl for 2 or 3 teams of 2 robots, 2 to
                     4 rows of 2 zones of Z = 4, 9 or 16 locations, S = 2 to 5 survivors and
                     2 hospitals; patrols (one per team and zone) are abstract actions.
+    survivors-repair
+                    The survivors-repair set of the paper (section 5.2): the 72 problems in a
+                    domain where survivors are evacuated by an abstract action tied to where they
+                    were reported, each with the problems after three disruptive events:
+                    STEM-startingPos.pddl (a robot starts elsewhere), STEM-newSurvivor.pddl (a new
+                    survivor) and STEM-survivorPos.pddl (a survivor found elsewhere).
     satellite-abstract
                     The IPC 2002 temporal Satellite domain of the corpus folder DIR with
                     abstract actions (calibrate_instrument, get_image), and a copy of each
@@ -63,6 +70,7 @@ enum Command {
     Surveillance { seed: u64, out: PathBuf },
     Big { size_mb: f64, seed: u64, out: PathBuf },
     Survivors { seed: u64, witness: bool, out: PathBuf },
+    SurvivorsRepair { seed: u64, out: PathBuf },
     SatelliteAbstract { corpus: PathBuf, out: PathBuf },
 }
 
@@ -109,6 +117,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
             Ok(Command::Big { size_mb, seed, out })
         }
         "survivors" => Ok(Command::Survivors { seed, witness, out }),
+        "survivors-repair" => Ok(Command::SurvivorsRepair { seed, out }),
         "satellite-abstract" => {
             let corpus = corpus.ok_or("satellite-abstract needs --corpus DIR")?;
             Ok(Command::SatelliteAbstract { corpus, out })
@@ -150,6 +159,7 @@ fn main() -> ExitCode {
         Ok(Command::Surveillance { seed, out }) => write_files(&out, &surveillance(seed)),
         Ok(Command::Big { size_mb, seed, out }) => write_files(&out, &big(size_mb, seed)),
         Ok(Command::Survivors { seed, witness, out }) => write_all(&out, &survivors(seed, witness), false),
+        Ok(Command::SurvivorsRepair { seed, out }) => write_all(&out, &survivors_repair(seed), false),
         Ok(Command::SatelliteAbstract { corpus, out }) => {
             satellite::satellite_abstract(&corpus).and_then(|files| write_all(&out, &files, false))
         }
@@ -188,6 +198,11 @@ mod tests {
             parse_args(&args("satellite-abstract --corpus c --out d")),
             Ok(Command::SatelliteAbstract { corpus: PathBuf::from("c"), out: PathBuf::from("d") })
         );
+        assert_eq!(
+            parse_args(&args("survivors-repair --seed 3")),
+            Ok(Command::SurvivorsRepair { seed: 3, out: PathBuf::from(".") })
+        );
+        assert!(parse_args(&args("survivors-repair --witness")).is_err());
         assert!(parse_args(&args("satellite-abstract --out d")).is_err());
         assert!(parse_args(&args("surveillance --witness")).is_err());
         assert!(parse_args(&args("big")).is_err());

@@ -9,7 +9,9 @@ use std::path::Path;
 use hipop_analyzer::validate::Options;
 use hipop_analyzer::{AnalysisHost, Diagnostic, Severity};
 use hipop_samplegen::survivors::Params;
-use hipop_samplegen::{DEFAULT_SEED, satellite, survivors, survivors_problem};
+use hipop_samplegen::{
+    DEFAULT_SEED, satellite, survivors, survivors_problem, survivors_repair, survivors_repair_problem,
+};
 
 /// The errors and warnings among `diags`, printed.
 fn problems(host: &AnalysisHost, diags: &[Diagnostic]) -> Vec<String> {
@@ -117,6 +119,95 @@ fn survivors_samples_are_up_to_date() {
         compared += 1;
     }
     assert!(compared >= 4, "the domain and 3 problems are committed");
+}
+
+/// The survivors-repair set (section 5.2 of the paper): every initial
+/// problem and every event's problem is free of errors and warnings in the
+/// repair set's domain.
+#[test]
+fn every_survivors_repair_problem_is_clean() {
+    let domain = survivors::domain::repair_domain();
+    let mut failures = Vec::new();
+    let mut host = AnalysisHost::new();
+    let d = host.set_file_text("/survivors-repair/domain.pddl", domain);
+    failures.extend(problems(&host, &host.analysis().diagnostics(d).unwrap()));
+    for params in Params::grid() {
+        let files = survivors_repair_problem(params, DEFAULT_SEED);
+        assert_eq!(files.len(), 4);
+        let ids: Vec<_> = files
+            .iter()
+            .map(|(name, text)| host.set_file_text(&format!("/survivors-repair/{name}"), text.clone()))
+            .collect();
+        let analysis = host.analysis();
+        for p in ids {
+            failures.extend(problems(&host, &analysis.diagnostics(p).unwrap()));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The test above notices a problem whose evacuations have no instance: a
+/// survivor reported where it is not cannot be evacuated, so its goal is
+/// out of reach (E0313).
+#[test]
+fn the_repair_checks_notice_an_unreachable_survivor() {
+    let params = Params { teams: 2, rows: 2, side: 2, survivors: 2 };
+    let files = survivors_repair_problem(params, DEFAULT_SEED);
+    let mut host = AnalysisHost::new();
+    host.set_file_text("/s/domain.pddl", survivors::domain::repair_domain());
+    let (_, text) = &files[0];
+    let fact = |s: &str| {
+        let at = text.find(&format!("(reported {s} ")).unwrap();
+        text[at..at + text[at..].find(')').unwrap() + 1].to_string()
+    };
+    let wrong = fact("s2").replace("s2", "s1");
+    let p = host.set_file_text("/s/p.pddl", text.replace(&fact("s1"), &wrong));
+    let diags = host.analysis().diagnostics(p).unwrap();
+    assert!(diags.iter().any(|d| d.code.id == "E0313"), "{:#?}", problems(&host, &diags));
+}
+
+#[test]
+fn survivors_repair_files_are_deterministic_and_named_by_their_event() {
+    let a = survivors_repair(DEFAULT_SEED);
+    assert_eq!(a, survivors_repair(DEFAULT_SEED));
+    assert_eq!(a.len(), 1 + 72 * 4);
+    let names: std::collections::BTreeSet<&str> = a.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names.len(), a.len());
+    for name in [
+        "domain.pddl",
+        "p-t2-r2-z4-s2.pddl",
+        "p-t2-r2-z4-s2-startingPos.pddl",
+        "p-t2-r2-z4-s2-newSurvivor.pddl",
+        "p-t3-r4-z16-s5-survivorPos.pddl",
+    ] {
+        assert!(names.contains(name), "{name}");
+    }
+    let b = survivors_repair(7);
+    assert_eq!(a[0], b[0], "one domain for every seed");
+    assert_ne!(a[2].1, b[2].1, "the seed draws the events");
+}
+
+#[test]
+fn survivors_repair_samples_are_up_to_date() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../survivors/repair");
+    let files = survivors_repair(DEFAULT_SEED);
+    let mut compared = 0;
+    for entry in std::fs::read_dir(&dir).expect("samples/survivors/repair") {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if !name.ends_with(".pddl") {
+            continue;
+        }
+        let (_, text) =
+            files.iter().find(|(n, _)| *n == name).unwrap_or_else(|| panic!("{name} is not generated"));
+        let committed = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            committed == *text,
+            "samples/survivors/repair/{name} is stale: regenerate it (see its README)"
+        );
+        compared += 1;
+    }
+    assert!(compared >= 5, "the domain and one problem with its 3 events are committed");
 }
 
 const CORPUS: &str = "../../../shared/corpora/ipc2002-temporal";

@@ -11,13 +11,16 @@
 //! - [`domain`]: the domain (the same for every problem);
 //! - [`problem`]: a problem's text;
 //! - [`witness`]: a plan that solves the problem, in VAL's format and in
-//!   hipop's timed IPC 2020 hierarchical format.
+//!   hipop's timed IPC 2020 hierarchical format;
+//! - [`repair`]: the survivors-repair set (section 5.2): the problems after
+//!   the disruptive events `startingPos`, `newSurvivor` and `survivorPos`.
 //!
 //! Times are integers in centiseconds and distances in centimetres, so that
 //! they print exactly with two decimals.
 
 pub mod domain;
 pub mod problem;
+pub mod repair;
 pub mod witness;
 
 use crate::geo::{self, Graph};
@@ -47,6 +50,10 @@ pub const SPEED: &str = "1.0";
 pub const EXPLORE_CS: u64 = 500;
 /// `rescue` (handing a survivor over to a hospital) lasts 10 s.
 pub const RESCUE_CS: u64 = 1000;
+/// `first-aid` (repair set) lasts 15 s.
+pub const FIRST_AID_CS: u64 = 1500;
+/// An evacuation lasts its first aid, this much more, and its carry.
+pub const EVACUATE_EXTRA_CS: u64 = FIRST_AID_CS + 100;
 /// A carried survivor slows the team down: `carry` lasts twice the move.
 pub const CARRY_FACTOR: u64 = 2;
 /// Separation of dependent happenings in the witness plans (VAL's tolerance).
