@@ -38,6 +38,69 @@ pub(crate) fn first_error(
     Some(format!("{} {}{at}", d.code.id, d.message))
 }
 
+/// Writes the plan's texts beside `prefix` (`PREFIX.plan`, and
+/// `PREFIX.hier.plan` when it has abstract steps) and validates each against
+/// `problem` at every tolerance of [`TOLERANCES`]: `out["val"]`,
+/// `out["hier"]` (`{valid, error, makespan}`) and `out["validate"]` (the
+/// seconds it took). Returns the texts written, VAL's first.
+pub(crate) fn validate_into(
+    out: &mut serde_json::Value,
+    host: &mut AnalysisHost,
+    problem: hipop_analyzer::SourceFile,
+    plan: &hipop_analyzer::planner::output::SolvedPlan,
+    header: &str,
+    prefix: &str,
+) -> Vec<String> {
+    let mut texts = vec![("val", "plan", plan.to_val(header))];
+    if plan.is_hierarchical() {
+        texts.push(("hier", "hier.plan", plan.to_hierarchical(header)));
+    }
+    let start = Instant::now();
+    let mut written = Vec::new();
+    for (key, ext, text) in texts {
+        let _ = std::fs::write(format!("{prefix}.{ext}"), &text);
+        let f = host.set_file_text(&format!("bench.{ext}"), text.as_str());
+        // The first tolerance at which the plan is not valid decides.
+        let checks = TOLERANCES.map(|tolerance| {
+            let v =
+                host.analysis().validate_plan(f, None, problem, &Options { tolerance, ..Options::default() });
+            (tolerance, v)
+        });
+        let failed = checks.iter().position(|(_, v)| {
+            !matches!(v, Ok(Some(v)) if v.valid && v.checked && v.diagnostics.iter().all(|d| d.code.id != "W0411"))
+        });
+        let (tolerance, v) = match failed {
+            Some(i) => checks[i].clone(),
+            None => checks[0].clone(),
+        };
+        let check = match v {
+            Ok(Some(v)) => {
+                // The plans are written with every dependent happening
+                // ε apart: one closer (W0411) is a planner bug too.
+                let close = v.diagnostics.iter().find(|d| d.code.id == "W0411");
+                let ok = v.valid && v.checked && close.is_none();
+                json!({
+                    "valid": ok,
+                    "error": if ok {
+                        None
+                    } else if let Some(d) = close.filter(|_| v.valid && v.checked) {
+                        Some(format!("-t {tolerance}: W0411 {}", d.message))
+                    } else {
+                        let e = first_error(&v.diagnostics, f, &text).unwrap_or_else(|| "not checked".into());
+                        Some(format!("-t {tolerance}: {e}"))
+                    },
+                    "makespan": v.makespan,
+                })
+            }
+            _ => json!({"valid": false, "error": "the validator did not run"}),
+        };
+        out[key] = check;
+        written.push(text);
+    }
+    out["validate"] = json!(start.elapsed().as_secs_f64());
+    written
+}
+
 /// `--one DOMAIN PROBLEM CONFIG TIME_LIMIT PLAN_PREFIX`: plans, validates,
 /// writes the plans beside PLAN_PREFIX and prints one JSON line.
 pub(crate) fn one(raw: &[String]) -> ExitCode {
@@ -98,51 +161,7 @@ pub(crate) fn one(raw: &[String]) -> ExitCode {
         out["makespan"] = json!(plan.makespan);
         out["length"] = json!(plan.primitive().count());
         out["abstract"] = json!(plan.steps.len() - plan.primitive().count());
-        let mut texts = vec![("val", "plan", plan.to_val(&header))];
-        if plan.is_hierarchical() {
-            texts.push(("hier", "hier.plan", plan.to_hierarchical(&header)));
-        }
-        let start = Instant::now();
-        for (key, ext, text) in texts {
-            let _ = std::fs::write(format!("{prefix}.{ext}"), &text);
-            let f = host.set_file_text(&format!("bench.{ext}"), text.as_str());
-            // The first tolerance at which the plan is not valid decides.
-            let checks = TOLERANCES.map(|tolerance| {
-                let v =
-                    host.analysis().validate_plan(f, None, pf, &Options { tolerance, ..Options::default() });
-                (tolerance, v)
-            });
-            let failed = checks.iter().position(|(_, v)| {
-                !matches!(v, Ok(Some(v)) if v.valid && v.checked && v.diagnostics.iter().all(|d| d.code.id != "W0411"))
-            });
-            let (tolerance, v) = match failed {
-                Some(i) => checks[i].clone(),
-                None => checks[0].clone(),
-            };
-            let check = match v {
-                Ok(Some(v)) => {
-                    // The plans are written with every dependent happening
-                    // ε apart: one closer (W0411) is a planner bug too.
-                    let close = v.diagnostics.iter().find(|d| d.code.id == "W0411");
-                    let ok = v.valid && v.checked && close.is_none();
-                    json!({
-                        "valid": ok,
-                        "error": if ok {
-                            None
-                        } else if let Some(d) = close.filter(|_| v.valid && v.checked) {
-                            Some(format!("-t {tolerance}: W0411 {}", d.message))
-                        } else {
-                            let e = first_error(&v.diagnostics, f, &text).unwrap_or_else(|| "not checked".into());
-                            Some(format!("-t {tolerance}: {e}"))
-                        },
-                        "makespan": v.makespan,
-                    })
-                }
-                _ => json!({"valid": false, "error": "the validator did not run"}),
-            };
-            out[key] = check;
-        }
-        out["validate"] = json!(start.elapsed().as_secs_f64());
+        validate_into(&mut out, &mut host, pf, plan, &header, prefix);
     }
     out["rss_kb"] = json!(vm_hwm(None));
     println!("{out}");

@@ -1,5 +1,6 @@
 //! The jobs: the problems of each suite, and running each in a child process.
 
+use std::ffi::OsString;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -108,14 +109,59 @@ pub(crate) fn run_child(job: &Job, limit: f64, plans: &Path) -> Run {
     // By domain too: HDDL domains share problem names (`pfile01`).
     let prefix = plans.join(job.suite).join(&job.group).join(format!("{}.{}", job.problem, job.config));
     let _ = std::fs::create_dir_all(prefix.parent().expect("a plan folder"));
+    let args: Vec<OsString> = vec![
+        "--one".into(),
+        job.domain_path.clone().into(),
+        job.problem_path.clone().into(),
+        job.config.clone().into(),
+        limit.to_string().into(),
+        prefix.into(),
+    ];
+    let c = spawn_child(&args, limit);
+    match c.line.as_deref().and_then(parse_run) {
+        Some(run) if c.success => run,
+        _ => Run { status: c.status(), detail: c.detail(), wall: c.wall, rss_kb: c.hwm, ..Run::default() },
+    }
+}
+
+/// How a child process ended.
+pub(crate) struct ChildEnd {
+    /// Its last line of standard output that is a JSON object.
+    pub(crate) line: Option<String>,
+    pub(crate) success: bool,
+    pub(crate) killed: bool,
+    pub(crate) exit: Option<std::process::ExitStatus>,
+    pub(crate) wall: f64,
+    /// Its peak resident memory, as last seen (KiB).
+    pub(crate) hwm: Option<u64>,
+    pub(crate) last_err: String,
+}
+
+impl ChildEnd {
+    /// `limit` when the harness killed it, else `crash`.
+    pub(crate) fn status(&self) -> String {
+        if self.killed { "limit".into() } else { "crash".into() }
+    }
+
+    pub(crate) fn detail(&self) -> String {
+        if self.killed {
+            format!("killed by the harness after {:.0} s", self.wall)
+        } else {
+            format!(
+                "{}: {}",
+                self.exit.map(|s| s.to_string()).unwrap_or_else(|| "no status".into()),
+                if self.last_err.is_empty() { "(no message)" } else { &self.last_err }
+            )
+        }
+    }
+}
+
+/// Runs this binary again with `args`, killing it `limit × 2 + 60` seconds
+/// after it started.
+pub(crate) fn spawn_child(args: &[OsString], limit: f64) -> ChildEnd {
     let exe = std::env::current_exe().expect("the bench binary");
     let child = Command::new(exe)
-        .arg("--one")
-        .arg(&job.domain_path)
-        .arg(&job.problem_path)
-        .arg(&job.config)
-        .arg(limit.to_string())
-        .arg(&prefix)
+        .args(args)
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -123,7 +169,15 @@ pub(crate) fn run_child(job: &Job, limit: f64, plans: &Path) -> Run {
     let mut child = match child {
         Ok(c) => c,
         Err(e) => {
-            return Run { status: "crash".into(), detail: format!("cannot start: {e}"), ..Run::default() };
+            return ChildEnd {
+                line: None,
+                success: false,
+                killed: false,
+                exit: None,
+                wall: 0.0,
+                hwm: None,
+                last_err: format!("cannot start: {e}"),
+            };
         }
     };
     let pid = child.id();
@@ -156,27 +210,14 @@ pub(crate) fn run_child(job: &Job, limit: f64, plans: &Path) -> Run {
     let wall = start.elapsed().as_secs_f64();
     let out = out.join().unwrap_or_default();
     let err = err.join().unwrap_or_default();
-    let last_err = err.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("").to_string();
-    match out.lines().rev().find_map(parse_run) {
-        Some(run) if status.is_some_and(|s| s.success()) => run,
-        _ if killed => Run {
-            status: "limit".into(),
-            detail: format!("killed by the harness after {wall:.0} s"),
-            wall,
-            rss_kb: hwm,
-            ..Run::default()
-        },
-        _ => Run {
-            status: "crash".into(),
-            detail: format!(
-                "{}: {}",
-                status.map(|s| s.to_string()).unwrap_or_else(|| "no status".into()),
-                if last_err.is_empty() { "(no message)" } else { &last_err }
-            ),
-            wall,
-            rss_kb: hwm,
-            ..Run::default()
-        },
+    ChildEnd {
+        line: out.lines().rev().find(|l| l.trim_start().starts_with('{')).map(String::from),
+        success: status.is_some_and(|s| s.success()),
+        killed,
+        exit: status,
+        wall,
+        hwm,
+        last_err: err.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("").to_string(),
     }
 }
 

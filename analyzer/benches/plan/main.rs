@@ -8,6 +8,8 @@
 //! abstract actions and `:allowed-actions`), `surveillance` (the case-study
 //! sample), `hddl` (the IPC 2020 partial-order HDDL domains). Default: all of
 //! them; every configuration of `Config::MAIN`, the default one only for hddl.
+//! `survivors-repair` (run on its own, never by default) is the repair
+//! benchmark of section 5.2 of the HiPOP paper: the `repair` module.
 //!
 //! Each (problem, configuration) runs in a child process (this binary again,
 //! in the hidden `--one` mode): a crash stays one failed row, the peak memory
@@ -56,12 +58,18 @@ const HELP: &str = "\
 cargo bench -p hipop-analyzer --bench plan -- [SUITE…] [OPTIONS]
 
 SUITES: survivors satellite satellite-time satellite-abstract surveillance hddl (default: all)
+        survivors-repair (on its own: plan each initial problem of the survivors-repair
+        set, then repair that plan for each of its 3 events with repair and repairFlat,
+        and replan; report Figures 12-13 of the HiPOP paper and the issue's targets)
 
 OPTIONS:
-    --configs A,B       configurations (default: Config::MAIN; the default one for hddl)
-    --time-limit S      search time limit per problem, seconds (default 60)
+    --configs A,B       configurations (default: Config::MAIN; the default one for hddl;
+                        survivors-repair: one, the default configuration by default)
+    --time-limit S      search time limit per problem, seconds (default 60; per run, 10
+                        for survivors-repair)
     --jobs N            problems planned at once, each in its own process (default 1)
-    --out FILE.md       the report (default target/plan-bench.md); the CSV is FILE.csv
+    --out FILE.md       the report (default target/plan-bench.md, survivors-repair:
+                        target/survivors-repair-bench.md); the CSV is FILE.csv
     --per-domain N      hddl: only the first N problems of each domain
     --filter TEXT       only the problems whose DOMAIN/NAME contains TEXT
     --satellite DIR     the Satellite corpus folder (default: $HIPOP_CORPORA or ../shared/corpora)
@@ -70,6 +78,7 @@ OPTIONS:
 
 mod child;
 mod jobs;
+mod repair;
 mod report;
 
 use child::*;
@@ -82,9 +91,11 @@ use report::*;
 pub(crate) struct Args {
     pub(crate) suites: Vec<String>,
     pub(crate) configs: Option<Vec<String>>,
-    pub(crate) time_limit: f64,
+    /// `None`: the suite's default.
+    pub(crate) time_limit: Option<f64>,
     pub(crate) jobs: usize,
-    pub(crate) out: PathBuf,
+    /// `None`: the suite's default, in the target folder.
+    pub(crate) out: Option<PathBuf>,
     pub(crate) per_domain: Option<usize>,
     pub(crate) filter: Option<String>,
     pub(crate) satellite: PathBuf,
@@ -106,6 +117,18 @@ pub(crate) fn target_dir() -> PathBuf {
         .unwrap_or_else(|| workspace().join("target"))
 }
 
+impl Args {
+    /// The plan suites' time limit.
+    pub(crate) fn limit(&self) -> f64 {
+        self.time_limit.unwrap_or(60.0)
+    }
+
+    /// The report: `--out`, else `name` in the target folder.
+    pub(crate) fn out_or(&self, name: &str) -> PathBuf {
+        self.out.clone().unwrap_or_else(|| target_dir().join(name))
+    }
+}
+
 pub(crate) fn from_workspace(p: &str) -> PathBuf {
     let p = PathBuf::from(p);
     if p.is_absolute() { p } else { workspace().join(p) }
@@ -115,9 +138,9 @@ pub(crate) fn parse_args(raw: &[String]) -> Result<Args, String> {
     let mut a = Args {
         suites: Vec::new(),
         configs: None,
-        time_limit: 60.0,
+        time_limit: None,
         jobs: 1,
-        out: target_dir().join("plan-bench.md"),
+        out: None,
         per_domain: None,
         filter: None,
         satellite: corpora().join(SATELLITE),
@@ -140,13 +163,15 @@ pub(crate) fn parse_args(raw: &[String]) -> Result<Args, String> {
             }
             "--time-limit" => {
                 let v = value("--time-limit")?;
-                a.time_limit = v.parse().map_err(|_| format!("invalid time limit `{v}`"))?;
+                a.time_limit = Some(
+                    v.parse().ok().filter(|&t: &f64| t > 0.0).ok_or(format!("invalid time limit `{v}`"))?,
+                );
             }
             "--jobs" => {
                 let v = value("--jobs")?;
                 a.jobs = v.parse().ok().filter(|&n| n > 0).ok_or(format!("invalid job count `{v}`"))?;
             }
-            "--out" => a.out = from_workspace(&value("--out")?),
+            "--out" => a.out = Some(from_workspace(&value("--out")?)),
             "--per-domain" => {
                 let v = value("--per-domain")?;
                 a.per_domain = Some(v.parse().map_err(|_| format!("invalid count `{v}`"))?);
@@ -154,12 +179,15 @@ pub(crate) fn parse_args(raw: &[String]) -> Result<Args, String> {
             "--filter" => a.filter = Some(value("--filter")?),
             "--satellite" => a.satellite = from_workspace(&value("--satellite")?),
             "--hddl" => a.hddl = from_workspace(&value("--hddl")?),
-            s if SUITES.contains(&s) => a.suites.push(s.to_string()),
+            s if SUITES.contains(&s) || s == repair::SUITE => a.suites.push(s.to_string()),
             other => return Err(format!("unexpected argument `{other}`")),
         }
     }
     if a.suites.is_empty() {
         a.suites = SUITES.iter().map(|s| s.to_string()).collect();
+    }
+    if a.suites.iter().any(|s| s == repair::SUITE) && a.suites.len() > 1 {
+        return Err(format!("{} runs on its own", repair::SUITE));
     }
     Ok(a)
 }
@@ -171,6 +199,9 @@ pub(crate) fn main() -> ExitCode {
     if raw.first().is_some_and(|a| a == "--one") {
         return one(&raw[1..]);
     }
+    if raw.first().is_some_and(|a| a == "--repair") {
+        return repair::repair_one(&raw[1..]);
+    }
     let a = match parse_args(&raw) {
         Ok(a) => a,
         Err(e) => {
@@ -181,6 +212,9 @@ pub(crate) fn main() -> ExitCode {
             return ExitCode::from(if e.is_empty() { 0 } else { 2 });
         }
     };
+    if a.suites.iter().any(|s| s == repair::SUITE) {
+        return repair::run(&a, &raw);
+    }
     let base = target_dir().join("plan-bench");
     let mut notes = Vec::new();
     let problems = problems(&a, &base.join("inputs"), &mut notes);
@@ -208,17 +242,18 @@ pub(crate) fn main() -> ExitCode {
             });
         }
     }
-    let csv_path = a.out.with_extension("csv");
-    if let Some(dir) = a.out.parent() {
+    let out = a.out_or("plan-bench.md");
+    let csv_path = out.with_extension("csv");
+    if let Some(dir) = out.parent() {
         let _ = std::fs::create_dir_all(dir);
     }
     eprintln!(
         "{} runs ({} s limit, {} job{}); report {}",
         jobs.len(),
-        a.time_limit,
+        a.limit(),
         a.jobs,
         if a.jobs == 1 { "" } else { "s" },
-        a.out.display()
+        out.display()
     );
     let started = (now_utc(), load(), commit());
     let clock = Instant::now();
@@ -241,7 +276,7 @@ pub(crate) fn main() -> ExitCode {
                         i
                     };
                     let Some(job) = jobs.get(i) else { break };
-                    let run = run_child(job, a.time_limit, &plans);
+                    let run = run_child(job, a.limit(), &plans);
                     eprintln!(
                         "[{:>4}/{}] {} {}/{} {}: {} in {}, {} expanded{}{}",
                         i + 1,
@@ -280,12 +315,12 @@ pub(crate) fn main() -> ExitCode {
         text.push('\n');
     }
     let _ = std::fs::write(&csv_path, text);
-    if let Err(e) = std::fs::write(&a.out, &md) {
-        eprintln!("error: cannot write {}: {e}", a.out.display());
+    if let Err(e) = std::fs::write(&out, &md) {
+        eprintln!("error: cannot write {}: {e}", out.display());
     }
     let invalid = runs.iter().filter(|r| r.invalid()).count();
     let crashes = runs.iter().filter(|r| r.status == "crash").count();
-    eprintln!("report: {}\ncsv: {}", a.out.display(), csv_path.display());
+    eprintln!("report: {}\ncsv: {}", out.display(), csv_path.display());
     for s in SUITES {
         let n = jobs.iter().filter(|j| j.suite == s).count();
         if n > 0 {

@@ -221,7 +221,7 @@ pub(crate) fn report(
     let _ = writeln!(
         out,
         "- search time limit {} s per problem and configuration; {} job{} at once, each problem in its own process (peak RSS = its VmHWM)",
-        a.time_limit,
+        a.limit(),
         a.jobs,
         if a.jobs == 1 { "" } else { "s" }
     );
