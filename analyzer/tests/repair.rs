@@ -238,3 +238,114 @@ fn a_step_executed_at_time_zero_comes_after_the_initial_state() {
         .unwrap();
     assert_eq!(result.status, Status::NoPlan, "{:?}", result.plan.map(|p| p.to_val("")));
 }
+
+/// The lost-robot fixture: r1 moves to b and patrols; its sensor fails at
+/// 5 s, during its move (`lost.pddl`: its `visible` facts end then).
+fn lost_robot(
+    problem_edit: &dyn Fn(&str) -> String,
+    options: &RepairOptions,
+) -> (Vec<String>, RepairResult, Vec<String>) {
+    let dir = "tests/repair/lost-robot";
+    plan_then_repair(
+        &read(&format!("{dir}/domain.pddl")),
+        &problem_edit(&read(&format!("{dir}/problem.pddl"))),
+        Some(&problem_edit(&read(&format!("{dir}/lost.pddl")))),
+        options,
+    )
+}
+
+fn at(now: f64, unreachable: &[&str]) -> RepairOptions {
+    RepairOptions {
+        execution: hipop_analyzer::repair::Execution {
+            now: Some(now),
+            unreachable: unreachable.iter().map(|s| s.to_string()).collect(),
+            ..Default::default()
+        },
+        ..RepairOptions::default()
+    }
+}
+
+/// A step whose condition only the initial state and timed literals give,
+/// and which no longer holds from now on (r1's sensor is out of service),
+/// is obsolete: stage 1 removes it and repairs from the rest. Before, the
+/// start plan with it was inconsistent, no step was removed, and the repair
+/// went to the full replan.
+#[test]
+fn a_step_whose_condition_never_holds_again_is_obsolete() {
+    // Without the patrol: r1 moves to c and observes p2 itself.
+    let flat = |t: &str| t.replace("(:allowed-actions move patrol)", "(:allowed-actions move observe)");
+    let (old, result, errors) = lost_robot(&flat, &at(5.0, &[]));
+    assert!(old.contains(&"(observe r1 c p2)".to_string()), "{old:?}");
+    assert_eq!(result.status, Status::Solved, "{:?}", result.stages);
+    assert_eq!(result.stage, Some(Stage::Obsolete), "{:?}", result.stages);
+    let gone: Vec<&str> = result
+        .removed
+        .iter()
+        .filter(|r| r.why == Why::ConditionGone)
+        .map(|r| result.old[r.step].call.as_str())
+        .collect();
+    assert_eq!(gone, ["(observe r1 c p2)"]);
+    assert!(
+        primitive(&result)
+            .iter()
+            .any(|s| s.starts_with("(observe r2 c p2)") || s.starts_with("(observe r3 c p2)"))
+    );
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+/// The patrol whose observation is obsolete is un-refined (5.1.1); it cannot
+/// be refined again for r1, so the next ring removes it (its effects came
+/// from the subtasks removed) and another robot patrols. Before, the rings
+/// never removed an un-refined abstract step and the repair went to the
+/// full replan.
+#[test]
+fn an_abstract_step_that_lost_its_subtasks_is_removed_by_the_next_ring() {
+    let (_, result, errors) = lost_robot(&|t: &str| t.to_string(), &at(5.0, &[]));
+    assert_eq!(result.status, Status::Solved, "{:?}", result.stages);
+    assert_eq!(result.stage, Some(Stage::Ring(1)), "{:?}", result.stages);
+    let patrol =
+        result.removed.iter().find(|r| result.old[r.step].call == "(patrol r1)").expect("the patrol goes");
+    assert_eq!(patrol.why, Why::Ring(1));
+    assert!(primitive(&result).iter().any(|s| s == "(observe r2 c p2)"), "{:?}", primitive(&result));
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+/// Nothing new starts before now (5.3: the past is executed). Before, r2's
+/// moves to b were scheduled from 0, in the past of a plan executed up to
+/// 5 s; steps that started before now stay where they were.
+#[test]
+fn nothing_new_starts_before_now() {
+    let (_, result, errors) = lost_robot(&|t: &str| t.to_string(), &at(5.0, &[]));
+    assert_eq!(result.status, Status::Solved, "{:?}", result.stages);
+    assert!(errors.is_empty(), "{errors:?}");
+    let plan = result.plan.as_ref().unwrap();
+    assert!(
+        plan.steps.iter().any(|s| s.name == "move" && s.args[0] == "r1" && s.start < 5.0),
+        "r1's move ran"
+    );
+    let new: Vec<String> = plan
+        .steps
+        .iter()
+        .filter(|s| s.args.first().is_some_and(|a| a != "r1"))
+        .map(|s| format!("{} {} at {}", s.name, s.args.join(" "), s.start))
+        .collect();
+    assert!(!new.is_empty());
+    for s in plan.steps.iter().filter(|s| s.args.first().is_some_and(|a| a != "r1")) {
+        assert!(s.start >= 5.0, "a step added before now: {new:?}");
+    }
+}
+
+/// An unreachable agent's plan does not change (5.4): no step of r2 is
+/// added, r3 patrols instead. Before, r2 (the first idle robot) was given
+/// the patrol.
+#[test]
+fn no_step_is_added_to_an_unreachable_agent() {
+    let (_, free, _) = lost_robot(&|t: &str| t.to_string(), &at(5.0, &[]));
+    assert!(primitive(&free).iter().any(|s| s.contains(" r2 ")), "r2 is the robot chosen when reachable");
+    let (_, result, errors) = lost_robot(&|t: &str| t.to_string(), &at(5.0, &["r2"]));
+    assert_eq!(result.status, Status::Solved, "{:?}", result.stages);
+    let steps = primitive(&result);
+    assert!(!steps.iter().any(|s| s.contains(" r2 ")), "{steps:?}");
+    assert!(steps.iter().any(|s| s == "(observe r3 c p2)"), "{steps:?}");
+    assert!(errors.is_empty(), "{errors:?}");
+}

@@ -103,6 +103,9 @@ pub enum Why {
     Ring(u32),
     /// Between now and a deadline that the plan misses (Figure 14).
     Deadline(f64),
+    /// A condition that only the initial state and the timed literals give
+    /// no longer holds from now on (a robot out of service, a window closed).
+    ConditionGone,
     /// The full replan removed every step.
     Replan,
 }
@@ -119,6 +122,10 @@ impl Why {
             Why::Flat => "the hierarchy is discarded (repairFlat)".into(),
             Why::Ring(n) => format!("ring {n}: next to a step removed"),
             Why::Deadline(t) => format!("it comes before the deadline at {t}, which the plan misses"),
+            Why::ConditionGone => {
+                "obsolete: a condition that only the initial state and timed literals give never holds again"
+                    .into()
+            }
             Why::Replan => "the full replan starts from nothing".into(),
         }
     }
@@ -534,6 +541,7 @@ impl<'p, 'db> Repair<'p, 'db> {
     /// Stage 1: the obsolete steps, then the steps that support nothing.
     fn obsolete(&mut self, flat: bool, now: f64) {
         let task = &self.prepared.task;
+        let rigid = old::Rigid::new(task);
         // Only steps the planner inserted itself must be in 𝒜: the
         // subtasks of methods need not be, flattened or not.
         let top_level: Vec<bool> = self.old.iter().map(|s| s.parent.is_none()).collect();
@@ -556,7 +564,14 @@ impl<'p, 'db> Repair<'p, 'db> {
                 Ok(op) => {
                     let o = &task.ops[op as usize];
                     let htn_root = o.is_abstract && task.htn.is_some();
-                    (top_level && !o.allowed && !htn_root && !self.old[i].frozen).then_some(Why::NotAllowed)
+                    let frozen = self.old[i].frozen;
+                    if top_level && !o.allowed && !htn_root && !frozen {
+                        Some(Why::NotAllowed)
+                    } else if !frozen && rigid.never_again(task, op, now) {
+                        Some(Why::ConditionGone)
+                    } else {
+                        None
+                    }
                 }
             };
             if let Some(why) = why {
@@ -672,6 +687,15 @@ impl<'p, 'db> Repair<'p, 'db> {
             }
             if frontier.contains(&b) && self.why[a].is_none() {
                 next.push(a);
+            }
+        }
+        // The abstract step whose method added a step removed, un-refined
+        // since: its effects came from its subtasks (5.1.1).
+        for &f in &frontier {
+            if let Some(p) = self.old[f].parent
+                && self.why[p].is_none()
+            {
+                next.push(p);
             }
         }
         // The same agent's steps just before and after, in the old schedule.

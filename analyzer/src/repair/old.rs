@@ -4,15 +4,15 @@
 //! times in the old schedule and whether it is frozen (executed, running,
 //! or an unreachable agent's).
 
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::db::{Db, Item, Unit};
 use crate::plan::Plan as PlanFile;
-use crate::planner::task::Task;
+use crate::planner::task::{Task, atom_of};
 use crate::semantics::check::domain_for;
 use crate::semantics::symbols::domain_symbols;
 use crate::verify::lifted::{LAtom, LTerm, operator};
-use crate::verify::state::ObjId;
+use crate::verify::state::{AtomId, ObjId};
 
 /// Why a step of the old plan has no operator in the new problem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -240,6 +240,50 @@ pub fn read(task: &Task<'_>, plan: &PlanFile, execution: &Execution) -> Vec<OldS
         }
     }
     steps
+}
+
+/// The conditions that only the initial state and the timed literals
+/// decide: atoms that no operator changes.
+pub struct Rigid {
+    changed: FxHashSet<AtomId>,
+}
+
+impl Rigid {
+    pub fn new(task: &Task<'_>) -> Self {
+        let changed = task.ops.iter().flat_map(|o| o.effs.iter().map(|e| atom_of(e.lit))).collect();
+        Rigid { changed }
+    }
+
+    /// Whether a condition of operator `op` can never hold from `now` on:
+    /// no operator changes its atom, which has the wrong value at `now`
+    /// (the initial state and the timed literals up to then) and no timed
+    /// literal after `now` gives it the right one. A step that has not
+    /// started by `now` cannot happen any more.
+    pub fn never_again(&self, task: &Task<'_>, op: u32, now: f64) -> bool {
+        task.ops[op as usize].conds.iter().any(|c| {
+            let atom = atom_of(c.lit);
+            if self.changed.contains(&atom) {
+                return false;
+            }
+            let wanted = c.lit % 2 == 0;
+            let mut tils: Vec<(f64, bool)> = task
+                .tils
+                .iter()
+                .filter(|t| atom_of(t.lit) == atom)
+                .map(|t| (t.time, t.lit % 2 == 0))
+                .collect();
+            tils.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut value = task.init.get(atom as usize).copied().unwrap_or(false);
+            for &(t, v) in &tils {
+                if t <= now {
+                    value = v;
+                } else if v == wanted {
+                    return false;
+                }
+            }
+            value != wanted
+        })
+    }
 }
 
 /// How many abstract steps are above step `i`.
