@@ -36,6 +36,7 @@
 //! limits, cancellation and progress come from the caller.
 
 mod old;
+mod order;
 
 use std::time::{Duration, Instant};
 
@@ -448,6 +449,9 @@ fn out_of_reach(prepared: &mut Prepared<'_>, unreachable: &[String]) {
     prepared.h = Heuristic::new(&prepared.task);
 }
 
+/// A start plan, each plan step's seed step, and each seed step's old step.
+type StartPlan = (crate::planner::plan::Plan, Vec<Option<usize>>, Vec<usize>);
+
 /// The state of a repair: which steps of the old plan are still in.
 struct Repair<'p, 'db> {
     prepared: &'p Prepared<'db>,
@@ -460,7 +464,10 @@ struct Repair<'p, 'db> {
     frontier: Vec<usize>,
     /// The orderings of the old plan between its steps (phantom links),
     /// and its causal links, as steps of the old plan.
-    phantoms: Vec<SeedOrder>,
+    phantoms: order::OldOrder,
+    /// The orderings of the old plan through the steps removed before the
+    /// order was learnt, between steps of the old plan (phantom links too).
+    through: Vec<SeedOrder>,
     links: Vec<(usize, usize)>,
     /// The old plan's causal links rebuilt by name (`old::links_by_name`).
     by_name: Vec<(usize, usize)>,
@@ -477,7 +484,8 @@ impl<'p, 'db> Repair<'p, 'db> {
             why: vec![None; n],
             removed: Vec::new(),
             frontier: Vec::new(),
-            phantoms: Vec::new(),
+            phantoms: order::OldOrder::default(),
+            through: Vec::new(),
             links: Vec::new(),
             by_name: Vec::new(),
             stage: Stage::Obsolete,
@@ -592,10 +600,10 @@ impl<'p, 'db> Repair<'p, 'db> {
         // The old plan's orderings and causal links, from the most complete
         // start plan the new task allows.
         self.deadlines(now);
-        self.learn_old_order();
+        let mut start = self.learn_old_order();
         self.through_removed();
         // Steps that support nothing, until none is left.
-        while let Some((plan, of_seed, seed_steps)) = self.start_plan() {
+        while let Some((plan, of_seed, seed_steps)) = start.take().or_else(|| self.start_plan()) {
             // A link supports its producer and the abstract steps above it
             // that do not hold its consumer too.
             let mut supports = vec![false; self.old.len()];
@@ -767,14 +775,13 @@ impl<'p, 'db> Repair<'p, 'db> {
             })
             .collect();
         let orders = if phantoms {
-            self.phantoms
-                .iter()
-                .filter_map(|o| {
-                    let (a, b) = (index[o.from.0], index[o.to.0]);
-                    (a != usize::MAX && b != usize::MAX)
-                        .then_some(SeedOrder { from: (a, o.from.1), to: (b, o.to.1) })
-                })
-                .collect()
+            let mut orders = self.phantoms.orders(&index);
+            orders.extend(self.through.iter().filter_map(|o| {
+                let (a, b) = (index[o.from.0], index[o.to.0]);
+                (a != usize::MAX && b != usize::MAX)
+                    .then_some(SeedOrder { from: (a, o.from.1), to: (b, o.to.1) })
+            }));
+            orders
         } else {
             Vec::new()
         };
@@ -785,7 +792,7 @@ impl<'p, 'db> Repair<'p, 'db> {
     /// geometric reasoning (every condition linked, moves included), which
     /// tells what supports what: the plan, each plan step's seed step, and
     /// each seed step's old step.
-    fn start_plan(&self) -> Option<(crate::planner::plan::Plan, Vec<Option<usize>>, Vec<usize>)> {
+    fn start_plan(&self) -> Option<StartPlan> {
         let (seed, kept) = self.seed_with(false, true);
         let analysis = Config { motion: Motion::Off, ..self.config.clone() };
         let search = Search::new(&self.prepared.task, &self.prepared.h, &analysis);
@@ -831,7 +838,7 @@ impl<'p, 'db> Repair<'p, 'db> {
                 } else {
                     continue;
                 };
-                self.phantoms.push(SeedOrder { from, to: (b, End::Start) });
+                self.through.push(SeedOrder { from, to: (b, End::Start) });
             }
         }
         self.by_name = by_name;
@@ -839,9 +846,10 @@ impl<'p, 'db> Repair<'p, 'db> {
 
     /// Learns the old plan's order and causal links from the start plan of
     /// every step still in: the orderings its network implies between their
-    /// time points are the phantom links of later stages.
-    fn learn_old_order(&mut self) {
-        let Some((plan, of_seed, kept)) = self.start_plan() else { return };
+    /// time points are the phantom links of later stages. Returns that
+    /// start plan.
+    fn learn_old_order(&mut self) -> Option<StartPlan> {
+        let (plan, of_seed, kept) = self.start_plan()?;
         let mut tps: Vec<(usize, End, Tp)> = Vec::new();
         for (s, k) in of_seed.iter().enumerate() {
             let Some(k) = *k else { continue };
@@ -851,17 +859,17 @@ impl<'p, 'db> Repair<'p, 'db> {
                 tps.push((kept[k], End::End, step.end));
             }
         }
-        for &(a, ea, ta) in &tps {
-            for &(b, eb, tb) in &tps {
-                if a != b && plan.stn.before(ta, tb) {
-                    self.phantoms.push(SeedOrder { from: (a, ea), to: (b, eb) });
-                }
-            }
-        }
+        let points = tps.iter().map(|&(a, e, _)| (a, e)).collect();
+        self.phantoms = order::OldOrder::new(
+            points,
+            |i, j| plan.stn.before(tps[i].2, tps[j].2),
+            |i| plan.stn.est(tps[i].2),
+        );
         for l in plan.links.iter() {
             if let (Some(a), Some(b)) = (of_seed[l.from as usize], of_seed[l.to as usize]) {
                 self.links.push((kept[a], kept[b]));
             }
         }
+        Some((plan, of_seed, kept))
     }
 }
