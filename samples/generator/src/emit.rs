@@ -431,3 +431,68 @@ pub fn problem(world: &World, prov: &Provenance) -> String {
     writeln!(out, ")").unwrap();
     out
 }
+
+/// The problem of the case study after robot `robot` goes out of service at
+/// `at_s` seconds (section 5.5 of the paper): timed initial literals end,
+/// at `at_s`, its `visible` and `visible-com` facts, so that it can no
+/// longer observe or communicate from then on (it may still move: a move
+/// under way when it fails ends normally). Everything else is the problem
+/// of [`problem`]. `None` when no robot has that name.
+pub fn lost_problem(world: &World, prov: &Provenance, robot: &str, at_s: u64) -> Option<String> {
+    let r = world.robots.iter().position(|x| x.name == robot)?;
+    let base = problem(world, prov);
+    let name = format!("surveillance-seed{}-{robot}-lost", prov.seed);
+    let mut tils = Vec::new();
+    for &(v, w, p) in world.visible.iter().filter(|(v, _, _)| *v == r) {
+        tils.push(format!(
+            "(visible {} {} {})",
+            world.robots[v].name,
+            world.waypoints[w].name(),
+            world.pois[p].name()
+        ));
+    }
+    for &(m, w1, w2) in &world.visible_com {
+        let meeting = &world.meetings[m];
+        if meeting.r1 == r || meeting.r2 == r {
+            tils.push(format!(
+                "(visible-com {} {} {} {})",
+                world.robots[meeting.r1].name,
+                world.robots[meeting.r2].name,
+                world.waypoints[w1].name(),
+                world.waypoints[w2].name()
+            ));
+        }
+    }
+    let mut block =
+        format!("    ; {robot} out of service from {at_s} s: it can no longer observe or communicate\n");
+    for t in &tils {
+        writeln!(block, "    (at {at_s}.0 (not {t}))").unwrap();
+    }
+    let goal = base.find("  )\n  (:goal").expect("the init ends before the goal");
+    let mut out = String::new();
+    let header_end = base.find("(define (problem").expect("a problem");
+    let tils_before = 2 * world.meetings.len();
+    out.push_str(&base[..header_end].replacen(
+        &format!(" {tils_before} timed initial literals ("),
+        &format!(" {} timed initial literals (", tils_before + tils.len()),
+        1,
+    ));
+    writeln!(
+        out,
+        "; Event (section 5.5 of the paper): {robot} goes out of service at {at_s} s; the {} timed initial literals",
+        tils.len()
+    )
+    .unwrap();
+    writeln!(
+        out,
+        "; at the end of :init end its visible and visible-com facts. A plan of problem.pddl is repaired with"
+    )
+    .unwrap();
+    writeln!(out, ";   hipop repair domain.pddl problem-lost-{robot}.pddl OLD_PLAN --now {at_s}").unwrap();
+    writeln!(out, "(define (problem {name})").unwrap();
+    let after_define = header_end + base[header_end..].find('\n').expect("a line") + 1;
+    out.push_str(&base[after_define..goal]);
+    out.push_str(&block);
+    out.push_str(&base[goal..]);
+    Some(out)
+}

@@ -33,6 +33,33 @@ pub fn surveillance(seed: u64) -> (String, String) {
     render(&world, &prov)
 }
 
+/// The robot that goes out of service in the committed lost-robot problem,
+/// and when: `mona2` at 3000 s, on its way from its first patrol to its
+/// second, its meetings held.
+pub const LOST_ROBOT: (&str, u64) = ("mona2", 3000);
+
+/// The case study's problem after robot `robot` goes out of service at
+/// `at_s` seconds (section 5.5 of the paper): it can no longer observe or
+/// communicate from then on. `Err` when the mission has no such robot.
+pub fn surveillance_lost(seed: u64, robot: &str, at_s: u64) -> Result<String, String> {
+    let world = world::generate(&Params::surveillance(), seed);
+    let prov = Provenance {
+        mode: "surveillance-lost".to_string(),
+        seed,
+        command: if seed == DEFAULT_SEED && (robot, at_s) == LOST_ROBOT {
+            "cargo run -p hipop-samplegen -- surveillance-lost --out samples/surveillance".to_string()
+        } else {
+            format!(
+                "cargo run -p hipop-samplegen -- surveillance-lost --seed {seed} --robot {robot} --at {at_s} --out DIR"
+            )
+        },
+    };
+    emit::lost_problem(&world, &prov, robot, at_s).ok_or_else(|| {
+        let names: Vec<&str> = world.robots.iter().map(|r| r.name.as_str()).collect();
+        format!("no robot `{robot}` in the mission (robots: {})", names.join(", "))
+    })
+}
+
 /// The domain and problem texts of a big instance whose problem is about `size_mb` MiB.
 pub fn big(size_mb: f64, seed: u64) -> (String, String) {
     let prov = Provenance {

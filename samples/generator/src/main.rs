@@ -7,13 +7,16 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use hipop_samplegen::{DEFAULT_SEED, big, satellite, surveillance, survivors, survivors_repair};
+use hipop_samplegen::{
+    DEFAULT_SEED, LOST_ROBOT, big, satellite, surveillance, surveillance_lost, survivors, survivors_repair,
+};
 
 const HELP: &str = "\
 hipop-samplegen: deterministic generator of hipop sample missions.
 
 USAGE:
     hipop-samplegen surveillance [--seed N] [--out DIR]
+    hipop-samplegen surveillance-lost [--seed N] [--robot NAME] [--at S] [--out DIR]
     hipop-samplegen big --size-mb N [--seed N] [--out DIR]
     hipop-samplegen survivors [--seed N] [--witness] [--out DIR]
     hipop-samplegen survivors-repair [--seed N] [--out DIR]
@@ -28,6 +31,11 @@ COMMANDS:
                     interest, 9 patrols (abstract actions with :agent, :duration and
                     :conflicts, two methods each), 6 mandated meetings opened by timed
                     initial literals, and an :allowed-actions set without observe.
+    surveillance-lost
+                    The mission's problem after a robot goes out of service (section 5.5 of the
+                    paper): timed initial literals end, at S seconds, its visible and visible-com
+                    facts, so that it can no longer observe or communicate; writes
+                    problem-lost-NAME.pddl (default: mona2 at 3000 s).
     big             The same domain on a larger zone, for throughput benchmarks: the
                     problem is about N MiB (thousands of waypoints, adjacency and
                     distance facts); the domain grows with the number of patrols.
@@ -52,6 +60,8 @@ OPTIONS:
     --out DIR       Directory receiving the files (default: the current directory);
                     created if missing.
     --size-mb N     Target size of the big problem in MiB (a decimal number, > 0).
+    --robot NAME    surveillance-lost: the robot out of service (default mona2).
+    --at S          surveillance-lost: from when, in whole seconds (default 3000).
     --witness       survivors: also write, per problem, a plan that solves it, in VAL's
                     format (STEM.plan) and in hipop's timed hierarchical format
                     (STEM.hier.plan).
@@ -68,6 +78,7 @@ EXAMPLES:
 enum Command {
     Help,
     Surveillance { seed: u64, out: PathBuf },
+    SurveillanceLost { seed: u64, robot: String, at: u64, out: PathBuf },
     Big { size_mb: f64, seed: u64, out: PathBuf },
     Survivors { seed: u64, witness: bool, out: PathBuf },
     SurvivorsRepair { seed: u64, out: PathBuf },
@@ -86,6 +97,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
     let mut size_mb = None;
     let mut witness = false;
     let mut corpus = None;
+    let (mut robot, mut at) = (LOST_ROBOT.0.to_string(), LOST_ROBOT.1);
     let mut rest = args[1..].iter();
     while let Some(flag) = rest.next() {
         let mut value = |name: &str| rest.next().cloned().ok_or_else(|| format!("{name} needs a value"));
@@ -106,12 +118,18 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
                 size_mb = Some(n);
             }
             "--witness" if cmd == "survivors" => witness = true,
+            "--robot" if cmd == "surveillance-lost" => robot = value("--robot")?,
+            "--at" if cmd == "surveillance-lost" => {
+                let v = value("--at")?;
+                at = v.parse().map_err(|_| format!("invalid time `{v}` (expected whole seconds)"))?;
+            }
             "--corpus" if cmd == "satellite-abstract" => corpus = Some(PathBuf::from(value("--corpus")?)),
             other => return Err(format!("unexpected argument `{other}`")),
         }
     }
     match cmd.as_str() {
         "surveillance" => Ok(Command::Surveillance { seed, out }),
+        "surveillance-lost" => Ok(Command::SurveillanceLost { seed, robot, at, out }),
         "big" => {
             let size_mb = size_mb.ok_or("big needs --size-mb N")?;
             Ok(Command::Big { size_mb, seed, out })
@@ -157,6 +175,8 @@ fn main() -> ExitCode {
             Ok(())
         }
         Ok(Command::Surveillance { seed, out }) => write_files(&out, &surveillance(seed)),
+        Ok(Command::SurveillanceLost { seed, robot, at, out }) => surveillance_lost(seed, &robot, at)
+            .and_then(|text| write_all(&out, &[(format!("problem-lost-{robot}.pddl"), text)], true)),
         Ok(Command::Big { size_mb, seed, out }) => write_files(&out, &big(size_mb, seed)),
         Ok(Command::Survivors { seed, witness, out }) => write_all(&out, &survivors(seed, witness), false),
         Ok(Command::SurvivorsRepair { seed, out }) => write_all(&out, &survivors_repair(seed), false),
@@ -203,6 +223,17 @@ mod tests {
             Ok(Command::SurvivorsRepair { seed: 3, out: PathBuf::from(".") })
         );
         assert!(parse_args(&args("survivors-repair --witness")).is_err());
+        assert_eq!(
+            parse_args(&args("surveillance-lost --robot mona1 --at 100")),
+            Ok(Command::SurveillanceLost {
+                seed: DEFAULT_SEED,
+                robot: "mona1".into(),
+                at: 100,
+                out: PathBuf::from(".")
+            })
+        );
+        assert!(parse_args(&args("surveillance-lost --at -3")).is_err());
+        assert!(parse_args(&args("surveillance --robot mona1")).is_err());
         assert!(parse_args(&args("satellite-abstract --out d")).is_err());
         assert!(parse_args(&args("surveillance --witness")).is_err());
         assert!(parse_args(&args("big")).is_err());

@@ -138,6 +138,45 @@ fn default_seed_matches_the_committed_samples() {
     };
     let (d, p) = surveillance(DEFAULT_SEED);
     assert!(d == domain && p == problem, "samples/surveillance is stale: regenerate it (see its README)");
+    let (robot, at) = crate::LOST_ROBOT;
+    let lost = std::fs::read_to_string(dir.join(format!("problem-lost-{robot}.pddl")))
+        .expect("the lost-robot problem");
+    assert!(
+        lost == crate::surveillance_lost(DEFAULT_SEED, robot, at).unwrap(),
+        "samples/surveillance/problem-lost-{robot}.pddl is stale: regenerate it (see its README)"
+    );
+}
+
+/// The lost-robot problem is the mission's problem, with timed initial
+/// literals that end, at the time, every visible and visible-com fact of
+/// the robot, and of no other; an unknown robot is an error.
+#[test]
+fn the_lost_robot_problem_ends_its_sensing_and_communication() {
+    let (_, problem) = surveillance(DEFAULT_SEED);
+    let lost = crate::surveillance_lost(DEFAULT_SEED, "mona2", 3000).unwrap();
+    let init = |t: &str| -> Vec<String> {
+        let a = t.find("(:init").unwrap();
+        let b = t.find("(:goal").unwrap();
+        t[a..b].lines().map(|l| l.trim().to_string()).filter(|l| l.starts_with('(')).collect()
+    };
+    let (before, after) = (init(&problem), init(&lost));
+    let added: Vec<&String> = after.iter().filter(|l| !before.contains(l)).collect();
+    let of_mona2: Vec<&String> = before
+        .iter()
+        .filter(|l| {
+            let w: Vec<&str> = l.trim_matches(|c| c == '(' || c == ')').split_whitespace().collect();
+            (w[0] == "visible" && w[1] == "mona2")
+                || (w[0] == "visible-com" && (w[1] == "mona2" || w[2] == "mona2"))
+        })
+        .collect();
+    assert!(!of_mona2.is_empty());
+    assert_eq!(added.len(), of_mona2.len());
+    for f in of_mona2 {
+        assert!(added.contains(&&format!("(at 3000.0 (not {f}))")), "{f}");
+    }
+    assert_eq!(before.len() + added.len(), after.len(), "nothing else changes");
+    assert_eq!(problem[problem.find("(:goal").unwrap()..], lost[lost.find("(:goal").unwrap()..]);
+    assert!(crate::surveillance_lost(DEFAULT_SEED, "robby", 3000).unwrap_err().contains("mona2"));
 }
 
 /// Durations are distance / speed: the direct move between two adjacent

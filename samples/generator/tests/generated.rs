@@ -210,6 +210,22 @@ fn survivors_repair_samples_are_up_to_date() {
     assert!(compared >= 5, "the domain and one problem with its 3 events are committed");
 }
 
+/// The surveillance mission with a robot out of service is clean.
+#[test]
+fn the_lost_robot_problem_is_clean() {
+    let (domain, _) = hipop_samplegen::surveillance(DEFAULT_SEED);
+    let (robot, at) = hipop_samplegen::LOST_ROBOT;
+    let lost = hipop_samplegen::surveillance_lost(DEFAULT_SEED, robot, at).unwrap();
+    let mut host = AnalysisHost::new();
+    let d = host.set_file_text("/surveillance/domain.pddl", domain);
+    let p = host.set_file_text("/surveillance/problem-lost.pddl", lost);
+    let analysis = host.analysis();
+    let mut diags = analysis.diagnostics(p).unwrap();
+    diags.extend(analysis.diagnostics(d).unwrap());
+    let failures = problems(&host, &diags);
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
 const CORPUS: &str = "../../../shared/corpora/ipc2002-temporal";
 
 /// The generated Satellite files of a corpus folder, or `None` when the
