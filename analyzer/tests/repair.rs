@@ -349,3 +349,111 @@ fn no_step_is_added_to_an_unreachable_agent() {
     assert!(steps.iter().any(|s| s == "(observe r3 c p2)"), "{steps:?}");
     assert!(errors.is_empty(), "{errors:?}");
 }
+
+/// The relay (section 5.2's survivorPos at a small scale): r1 lifted the
+/// crate where it was reported and r2 hauled it on. The crate is found one
+/// place further: the lift is obsolete, and r2's haul, which the lift
+/// supported (the crate held), is in the first ring: another robot's step,
+/// linked to the obsolete one by the links rebuilt by name.
+#[test]
+fn the_first_ring_holds_another_robots_step_that_an_obsolete_step_supported() {
+    let dir = "tests/repair/relay";
+    let (old, result, errors) = plan_then_repair(
+        &read(&format!("{dir}/domain.pddl")),
+        &read(&format!("{dir}/problem.pddl")),
+        Some(&read(&format!("{dir}/moved.pddl"))),
+        &RepairOptions::default(),
+    );
+    assert!(
+        old.contains(&"(lift r1 k b c)".to_string()) && old.contains(&"(haul r2 k c d)".to_string()),
+        "{old:?}"
+    );
+    assert_eq!(result.status, Status::Solved, "{:?}", result.stages);
+    assert_eq!(result.stage, Some(Stage::Ring(1)), "{:?}", result.stages);
+    let haul =
+        result.removed.iter().find(|r| result.old[r.step].call == "(haul r2 k c d)").expect("the haul goes");
+    assert_eq!(haul.why, Why::Ring(1));
+    assert!(primitive(&result).contains(&"(lift r1 k c d)".to_string()), "{:?}", primitive(&result));
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+/// A start plan links a condition to the producer the old schedule had
+/// only when nothing undid it in between: with the old plan's second move
+/// to b removed, the move from b to c is not linked to the first one (the
+/// robot left b in between), its position stays open, and the start plan
+/// is consistent. Before, the link to the first move was threatened by the
+/// move back to a, both ways, and no start plan was built (the repair then
+/// learnt nothing of the old plan's order).
+#[test]
+fn a_start_plan_does_not_link_across_a_step_that_undid_the_condition() {
+    use hipop_analyzer::planner::search::{Search, Seed, SeedStep};
+    use hipop_analyzer::planner::{Motion, prepare};
+    let domain = "(define (domain shuttle)
+      (:requirements :typing :durative-actions)
+      (:types robot place)
+      (:predicates (at-r ?r - robot ?p - place) (adjacent ?a ?b - place) (scanned ?p - place))
+      (:durative-action move
+        :parameters (?r - robot ?from ?to - place)
+        :duration (= ?duration 10)
+        :condition (and (at start (at-r ?r ?from)) (over all (adjacent ?from ?to)))
+        :effect (and (at start (not (at-r ?r ?from))) (at end (at-r ?r ?to))))
+      (:durative-action scan
+        :parameters (?r - robot ?p - place)
+        :duration (= ?duration 5)
+        :condition (and (at start (at-r ?r ?p)) (over all (at-r ?r ?p)))
+        :effect (at end (scanned ?p))))";
+    let problem = "(define (problem shuttle-1) (:domain shuttle)
+      (:objects r - robot a b c - place)
+      (:init (at-r r a) (adjacent a b) (adjacent b a) (adjacent b c) (adjacent c b))
+      (:goal (and (scanned b) (scanned c))))";
+    let mut host = AnalysisHost::new();
+    host.set_file_text("shuttle-domain.pddl", domain.to_string());
+    let pf = host.set_file_text("shuttle.pddl", problem.to_string());
+    let db = host.db();
+    let unit = hipop_analyzer::db::file_units(db, pf)[0];
+    let config = Config { motion: Motion::Off, ..Config::default() };
+    let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("a task");
+    let task = &prepared.task;
+    let op = |call: &str| -> u32 {
+        let words: Vec<&str> = call.split_whitespace().collect();
+        (0..task.ops.len() as u32)
+            .find(|&i| {
+                let o = &task.ops[i as usize];
+                o.name.as_str() == words[0]
+                    && o.args.iter().map(|&a| task.g.objects.name(a)).eq(words[1..].iter().copied())
+            })
+            .unwrap_or_else(|| panic!("{call}"))
+    };
+    // The old plan: a→b, scan b, b→a, [a→b, removed], b→c, scan c.
+    let step = |call: &str, start: f64, end: f64| SeedStep {
+        op: op(call),
+        parent: None,
+        method: None,
+        start,
+        end,
+        fixed: false,
+        done: false,
+    };
+    let seed = Seed {
+        steps: vec![
+            step("move r a b", 0.0, 10.0),
+            step("scan r b", 10.01, 15.01),
+            step("move r b a", 15.02, 25.02),
+            step("move r b c", 35.04, 45.04),
+            step("scan r c", 45.05, 50.05),
+        ],
+        ..Seed::default()
+    };
+    let search = Search::new(task, &prepared.h, &config);
+    let plans = search.seeded(&seed).expect("a consistent start plan");
+    let (plan, of_seed) = &plans[0];
+    let plan_step = |k: usize| of_seed.iter().position(|&s| s == Some(k)).expect("in the plan") as u32;
+    let (first, to_c) = (plan_step(0), plan_step(3));
+    assert!(
+        !plan.links.iter().any(|l| l.from == first && l.to == to_c),
+        "the move from b to c is linked to the first move to b"
+    );
+    assert!(plan.open.iter().any(|o| o.step == to_c), "its position stays open");
+    // What nothing undid is linked as before: the scan of b to the first move.
+    assert!(plan.links.iter().any(|l| l.from == first && l.to == plan_step(1)));
+}

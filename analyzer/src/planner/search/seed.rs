@@ -9,7 +9,9 @@
 
 use super::super::plan::{INIT, Kind, OpenOrigin, Plan};
 use super::super::stn::{EPS, ORIGIN, Tp};
-use super::super::task::End;
+use rustc_hash::FxHashMap;
+
+use super::super::task::{End, Lit, Task, atom_of, is_neg, negate};
 use super::Search;
 
 /// How far the old times of a producer and of its consumer may be out of
@@ -213,6 +215,7 @@ impl Search<'_, '_> {
     /// latest one before the need among the seed's steps, else the initial
     /// state. Visits of itineraries are left to them.
     fn link_as_before(&self, p: &mut Plan, times: &OldTimes) {
+        let undone = Undone::new(self.task, p, times);
         let mut i = 0;
         let mut producers = Vec::new();
         while i < p.open.len() {
@@ -238,10 +241,17 @@ impl Search<'_, '_> {
                     before.then_some((t, s, tp))
                 })
                 .max_by(|a, b| a.0.total_cmp(&b.0));
-            let Some((_, s, tp)) = best else {
+            let Some((t, s, tp)) = best else {
                 i += 1;
                 continue;
             };
+            // A step of the old plan undid the literal in between: the
+            // step that made it true again for this need was removed, and
+            // the link would not be the old one (the need stays open).
+            if o.origin != OpenOrigin::AbstractEffect && undone.between(self.task, o.lit, t, need) {
+                i += 1;
+                continue;
+            }
             let mut c = p.clone();
             let open = c.remove_open(i);
             // A step executed at time 0 (other planners start there) reads
@@ -259,7 +269,49 @@ impl Search<'_, '_> {
             }
         }
     }
+}
 
+/// When the start plan's steps undo literals in the old schedule: the old
+/// times of their effects that delete a literal (by literal), and of those
+/// that put a member of a position family somewhere (by family group).
+struct Undone {
+    deleted: FxHashMap<Lit, Vec<f64>>,
+    placed: FxHashMap<u32, Vec<(f64, u32)>>,
+}
+
+impl Undone {
+    fn new(task: &Task<'_>, p: &Plan, times: &OldTimes) -> Undone {
+        let mut out = Undone { deleted: FxHashMap::default(), placed: FxHashMap::default() };
+        for step in p.steps.iter() {
+            let Kind::Op(op) = step.kind else { continue };
+            for e in &task.ops[op as usize].effs {
+                let Some(t) = times.at(step.tp(e.at)) else { continue };
+                out.deleted.entry(negate(e.lit)).or_default().push(t);
+                if !is_neg(e.lit)
+                    && let Some((group, pos)) = task.family.get(atom_of(e.lit) as usize).copied().flatten()
+                {
+                    out.placed.entry(group).or_default().push((t, pos));
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether literal `lit` was undone strictly between `from` and `to`
+    /// in the old schedule: deleted, or its member put elsewhere.
+    fn between(&self, task: &Task<'_>, lit: Lit, from: f64, to: f64) -> bool {
+        let inside = |t: f64| t > from + OLD_TIME_SLACK && t < to - OLD_TIME_SLACK;
+        if self.deleted.get(&lit).is_some_and(|v| v.iter().any(|&t| inside(t))) {
+            return true;
+        }
+        !is_neg(lit)
+            && task.family.get(atom_of(lit) as usize).copied().flatten().is_some_and(|(group, pos)| {
+                self.placed.get(&group).is_some_and(|v| v.iter().any(|&(t, q)| q != pos && inside(t)))
+            })
+    }
+}
+
+impl Search<'_, '_> {
     /// Orders each threat the way the old schedule has it, when the network
     /// allows: the threat is then solved as it was.
     fn order_threats_as_before(&self, p: &mut Plan, times: &OldTimes) {
