@@ -8,8 +8,9 @@
 //! abstract actions and `:allowed-actions`), `surveillance` (the case-study
 //! sample), `hddl` (the IPC 2020 partial-order HDDL domains). Default: all of
 //! them; every configuration of `Config::MAIN`, the default one only for hddl.
-//! `survivors-repair` (run on its own, never by default) is the repair
-//! benchmark of section 5.2 of the HiPOP paper: the `repair` module.
+//! `survivors-repair` and `surveillance-repair` (without the plan suites,
+//! never by default) are the repair benchmarks of section 5 of the HiPOP
+//! paper: the `repair` module.
 //!
 //! Each (problem, configuration) runs in a child process (this binary again,
 //! in the hidden `--one` mode): a crash stays one failed row, the peak memory
@@ -58,9 +59,12 @@ const HELP: &str = "\
 cargo bench -p hipop-analyzer --bench plan -- [SUITE…] [OPTIONS]
 
 SUITES: survivors satellite satellite-time satellite-abstract surveillance hddl (default: all)
-        survivors-repair (on its own: plan each initial problem of the survivors-repair
-        set, then repair that plan for each of its 3 events with repair and repairFlat,
-        and replan; report Figures 12-13 of the HiPOP paper and the issue's targets)
+        survivors-repair (plan each initial problem of the survivors-repair set, then
+        repair that plan for each of its 3 events with repair and repairFlat, and
+        replan; report Figures 12-13 of the HiPOP paper and the issue's targets)
+        surveillance-repair (plan the case study, then repair the plan after mona2 goes
+        out of service at 3000 s, with --now 3000; the target: under 1 s)
+        The repair suites run without the plan suites, never by default.
 
 OPTIONS:
     --configs A,B       configurations (default: Config::MAIN; the default one for hddl;
@@ -68,8 +72,8 @@ OPTIONS:
     --time-limit S      search time limit per problem, seconds (default 60; per run, 10
                         for survivors-repair)
     --jobs N            problems planned at once, each in its own process (default 1)
-    --out FILE.md       the report (default target/plan-bench.md, survivors-repair:
-                        target/survivors-repair-bench.md); the CSV is FILE.csv
+    --out FILE.md       the report (default target/plan-bench.md; the repair suites:
+                        target/repair-bench.md); the CSV is FILE.csv
     --per-domain N      hddl: only the first N problems of each domain
     --filter TEXT       only the problems whose DOMAIN/NAME contains TEXT
     --satellite DIR     the Satellite corpus folder (default: $HIPOP_CORPORA or ../shared/corpora)
@@ -179,15 +183,16 @@ pub(crate) fn parse_args(raw: &[String]) -> Result<Args, String> {
             "--filter" => a.filter = Some(value("--filter")?),
             "--satellite" => a.satellite = from_workspace(&value("--satellite")?),
             "--hddl" => a.hddl = from_workspace(&value("--hddl")?),
-            s if SUITES.contains(&s) || s == repair::SUITE => a.suites.push(s.to_string()),
+            s if SUITES.contains(&s) || repair::SUITES.contains(&s) => a.suites.push(s.to_string()),
             other => return Err(format!("unexpected argument `{other}`")),
         }
     }
     if a.suites.is_empty() {
         a.suites = SUITES.iter().map(|s| s.to_string()).collect();
     }
-    if a.suites.iter().any(|s| s == repair::SUITE) && a.suites.len() > 1 {
-        return Err(format!("{} runs on its own", repair::SUITE));
+    let repairs = a.suites.iter().filter(|s| repair::SUITES.contains(&s.as_str())).count();
+    if repairs > 0 && repairs < a.suites.len() {
+        return Err(format!("{} run without the plan suites", repair::SUITES.join(" and ")));
     }
     Ok(a)
 }
@@ -212,7 +217,7 @@ pub(crate) fn main() -> ExitCode {
             return ExitCode::from(if e.is_empty() { 0 } else { 2 });
         }
     };
-    if a.suites.iter().any(|s| s == repair::SUITE) {
+    if a.suites.iter().any(|s| repair::SUITES.contains(&s.as_str())) {
         return repair::run(&a, &raw);
     }
     let base = target_dir().join("plan-bench");

@@ -10,18 +10,35 @@ use hipop_analyzer::AnalysisHost;
 use hipop_analyzer::plan::NameMatching;
 use hipop_analyzer::plan::diff::{DiffOptions, diff};
 use hipop_analyzer::planner::{Config, PlannerLimits, Status};
-use hipop_analyzer::repair::{RepairOptions, Stage};
+use hipop_analyzer::repair::{Execution, RepairOptions, Stage};
 use serde_json::json;
 
 use super::super::child::{validate_into, vm_hwm};
 use super::Mode;
 
-/// `--repair MODE DOMAIN PROBLEM OLD_PLAN CONFIG TIME_LIMIT PLAN_PREFIX`.
+/// `--repair MODE DOMAIN PROBLEM OLD_PLAN CONFIG TIME_LIMIT PLAN_PREFIX
+/// [--now T] [--unreachable A,B]`.
 pub(crate) fn repair_one(raw: &[String]) -> ExitCode {
-    let [mode, domain, problem, old, config, limit, prefix] = raw else {
-        eprintln!("--repair MODE DOMAIN PROBLEM OLD_PLAN CONFIG TIME_LIMIT PLAN_PREFIX");
+    let usage =
+        "--repair MODE DOMAIN PROBLEM OLD_PLAN CONFIG TIME_LIMIT PLAN_PREFIX [--now T] [--unreachable A,B]";
+    let (Some([mode, domain, problem, old, config, limit, prefix]), rest) =
+        (raw.get(..7).and_then(|r| <&[String; 7]>::try_from(r).ok()), raw.get(7..).unwrap_or(&[]))
+    else {
+        eprintln!("{usage}");
         return ExitCode::from(2);
     };
+    let mut execution = Execution::default();
+    let mut flags = rest.iter();
+    while let Some(flag) = flags.next() {
+        match (flag.as_str(), flags.next()) {
+            ("--now", Some(v)) => execution.now = Some(v.parse().expect("the parent wrote a time")),
+            ("--unreachable", Some(v)) => execution.unreachable = v.split(',').map(String::from).collect(),
+            _ => {
+                eprintln!("{usage}");
+                return ExitCode::from(2);
+            }
+        }
+    }
     let mode = Mode::parse(mode).expect("the parent checked the mode");
     let config = Config::parse(config).expect("the parent checked the configuration");
     let limit: f64 = limit.parse().expect("the parent checked the limit");
@@ -50,7 +67,7 @@ pub(crate) fn repair_one(raw: &[String]) -> ExitCode {
             (r.status, r.plan, r.diagnostics, r.stats)
         }
         Mode::Repair | Mode::RepairFlat => {
-            let options = RepairOptions { flat: mode == Mode::RepairFlat, ..RepairOptions::default() };
+            let options = RepairOptions { flat: mode == Mode::RepairFlat, execution: execution.clone() };
             let r = host
                 .analysis()
                 .run_repair(pf, of, None, &config, &limits, &options, &|| false, &mut |_| {})

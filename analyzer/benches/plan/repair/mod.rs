@@ -10,9 +10,13 @@
 //! (`replan`), each in its own child process with the time limit. Each plan
 //! found is validated like the plan bench's, and compared with the old plan
 //! as `hipop diff` does (instability, distance).
+//!
+//! The `surveillance-repair` suite (`surveillance.rs`): the case study with a
+//! robot out of service mid-mission, repaired with `--now`.
 
 mod child;
 mod report;
+mod surveillance;
 
 use std::ffi::OsString;
 use std::io::Write as _;
@@ -26,8 +30,10 @@ use serde_json::Value;
 use super::*;
 pub(crate) use child::repair_one;
 
-/// The suite's name on the command line.
+/// The survivors suite's name on the command line.
 pub(crate) const SUITE: &str = "survivors-repair";
+/// The repair suites: the survivors-repair set, the surveillance mission.
+pub(crate) const SUITES: [&str; 2] = [SUITE, "surveillance-repair"];
 /// Its default time limit per run, seconds.
 pub(crate) const DEFAULT_LIMIT: f64 = 10.0;
 
@@ -191,7 +197,7 @@ pub(crate) fn run(a: &Args, raw: &[String]) -> ExitCode {
     let config = match &a.configs {
         Some(c) if c.len() == 1 => c[0].clone(),
         Some(_) => {
-            eprintln!("error: {SUITE} runs one configuration (--configs NAME)");
+            eprintln!("error: the repair suites run one configuration (--configs NAME)");
             return ExitCode::from(2);
         }
         None => Config::DEFAULT.to_string(),
@@ -205,14 +211,17 @@ pub(crate) fn run(a: &Args, raw: &[String]) -> ExitCode {
         std::fs::write(inputs.join(&name), text).expect("an input file");
     }
     let domain = inputs.join("domain.pddl");
-    let mut stems: Vec<String> =
-        hipop_samplegen::survivors::Params::grid().into_iter().map(|p| p.stem()).collect();
+    let mut stems: Vec<String> = if a.suites.iter().any(|s| s == SUITE) {
+        hipop_samplegen::survivors::Params::grid().into_iter().map(|p| p.stem()).collect()
+    } else {
+        Vec::new()
+    };
     let mut notes = Vec::new();
     if let Some(f) = &a.filter {
         stems.retain(|s| s.contains(f.as_str()));
         notes.push(format!("only the problems whose name contains `{f}`"));
     }
-    let out_md = a.out_or(&format!("{SUITE}-bench.md"));
+    let out_md = a.out_or("repair-bench.md");
     let csv_path = out_md.with_extension("csv");
     if let Some(dir) = out_md.parent() {
         let _ = std::fs::create_dir_all(dir);
@@ -231,13 +240,15 @@ pub(crate) fn run(a: &Args, raw: &[String]) -> ExitCode {
             config: config.clone(),
         })
         .collect();
-    eprintln!(
-        "{SUITE}: {} initial problems, then 3 events x 3 ways each ({limit} s limit, {} job{}); report {}",
-        initial.len(),
-        a.jobs,
-        if a.jobs == 1 { "" } else { "s" },
-        out_md.display()
-    );
+    if !stems.is_empty() {
+        eprintln!(
+            "{SUITE}: {} initial problems, then 3 events x 3 ways each ({limit} s limit, {} job{}); report {}",
+            initial.len(),
+            a.jobs,
+            if a.jobs == 1 { "" } else { "s" },
+            out_md.display()
+        );
+    }
     let plans_dir = target_dir().join("plan-bench").join("plans");
     let old: Vec<Run> = parallel(
         a.jobs,
@@ -307,6 +318,7 @@ pub(crate) fn run(a: &Args, raw: &[String]) -> ExitCode {
             }
         },
     );
+    let watched = a.suites.iter().any(|s| s == SUITES[1]).then(|| surveillance::run(&config, limit));
     // The CSV again, in order.
     let mut text = format!("{}\n", report::CSV_HEAD);
     for (j, r) in initial.iter().zip(&old) {
@@ -316,6 +328,21 @@ pub(crate) fn run(a: &Args, raw: &[String]) -> ExitCode {
     for (j, r) in jobs.iter().zip(&runs) {
         text += &report::csv_line(j, r);
         text.push('\n');
+    }
+    for (case, rs) in watched.iter().flat_map(|w| w.cases.iter()) {
+        for r in rs {
+            let j = RJob {
+                problem: "surveillance".into(),
+                event: "mona2-lost",
+                mode: case.mode,
+                domain: PathBuf::new(),
+                event_problem: PathBuf::new(),
+                old_plan: PathBuf::new(),
+            };
+            let line = report::csv_line(&j, r);
+            text += &line.replacen(case.mode.name(), &report::csv_field_text(&case.label), 1);
+            text.push('\n');
+        }
     }
     let _ = std::fs::write(&csv_path, text);
     let md = report::report(&report::Context {
@@ -330,14 +357,21 @@ pub(crate) fn run(a: &Args, raw: &[String]) -> ExitCode {
         old: &old,
         jobs: &jobs,
         runs: &runs,
+        surveillance: watched.as_ref(),
     });
     if let Err(e) = std::fs::write(&out_md, &md) {
         eprintln!("error: cannot write {}: {e}", out_md.display());
     }
     eprintln!("report: {}\ncsv: {}", out_md.display(), csv_path.display());
-    let invalid = old.iter().filter(|r| r.invalid()).count() + runs.iter().filter(|r| r.invalid()).count();
+    let watched_runs: Vec<&RRun> =
+        watched.iter().flat_map(|w| w.cases.iter().flat_map(|c| c.1.iter())).collect();
+    let invalid = old.iter().filter(|r| r.invalid()).count()
+        + runs.iter().filter(|r| r.invalid()).count()
+        + watched_runs.iter().filter(|r| r.invalid()).count()
+        + watched.iter().filter(|w| w.initial.invalid()).count();
     let crashes = old.iter().filter(|r| r.status == "crash").count()
-        + runs.iter().filter(|r| r.status == "crash").count();
+        + runs.iter().filter(|r| r.status == "crash").count()
+        + watched_runs.iter().filter(|r| r.status == "crash").count();
     if invalid > 0 || crashes > 0 {
         eprintln!("FAILED: {invalid} invalid plan(s), {crashes} crash(es)");
         return ExitCode::from(1);

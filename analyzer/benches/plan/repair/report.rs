@@ -22,6 +22,7 @@ pub(crate) struct Context<'a> {
     pub(crate) old: &'a [Run],
     pub(crate) jobs: &'a [RJob],
     pub(crate) runs: &'a [RRun],
+    pub(crate) surveillance: Option<&'a super::surveillance::Results>,
 }
 
 const EVENTS: [&str; 3] = ["startingPos", "newSurvivor", "survivorPos"];
@@ -271,7 +272,7 @@ fn targets(ts: &[&Triple], invalid: usize, repaired: usize) -> Vec<(String, bool
 pub(crate) fn report(ctx: &Context) -> String {
     let mut out = String::new();
     let a = ctx.args;
-    let _ = writeln!(out, "# Repair benchmark: survivors-repair (HiPOP paper, section 5.2)\n");
+    let _ = writeln!(out, "# Repair benchmark (HiPOP paper, section 5)\n");
     let _ = writeln!(out, "- machine: {}", machine());
     let _ = writeln!(out, "- date: {} (finished {}, {:.0} min)", ctx.started.0, now_utc(), ctx.took / 60.0);
     let _ = writeln!(out, "- commit: {}", ctx.started.2);
@@ -289,10 +290,12 @@ pub(crate) fn report(ctx: &Context) -> String {
         a.jobs,
         if a.jobs == 1 { "" } else { "s" }
     );
-    let _ = writeln!(
-        out,
-        "- each initial problem of `{SUITE}` is planned, its plan validated and written in the timed hierarchical format; for each event, that plan is repaired with `repair` (`RepairOptions::default()`) and `repairFlat` (`flat: true`), and the event's problem is planned from scratch (`replan`)"
-    );
+    if !ctx.initial.is_empty() {
+        let _ = writeln!(
+            out,
+            "- each initial problem of `{SUITE}` is planned, its plan validated and written in the timed hierarchical format; for each event, that plan is repaired with `repair` (`RepairOptions::default()`) and `repairFlat` (`flat: true`), and the event's problem is planned from scratch (`replan`)"
+        );
+    }
     let _ = writeln!(
         out,
         "- time = wall time of `run_repair` or `run_planner` in the child (grounding, the stages' searches), the files already read; length = actions (primitive steps); instability and distance = `hipop diff` of the old plan and the plan found (instability: actions removed, added and retimed by more than 0.001 s; distance: actions removed and added); every plan found is validated (its VAL text, and its hierarchical text) at tolerances 0.01 and 0.0001"
@@ -301,6 +304,13 @@ pub(crate) fn report(ctx: &Context) -> String {
         let _ = writeln!(out, "- {n}");
     }
     out.push('\n');
+    if let Some(w) = ctx.surveillance {
+        super::surveillance::section(&mut out, w, ctx.limit);
+    }
+    if ctx.initial.is_empty() {
+        return out;
+    }
+    let _ = writeln!(out, "## survivors-repair (section 5.2, Figures 12 and 13)\n");
     // The initial plans.
     let solved: Vec<&Run> = ctx.old.iter().filter(|r| r.solved()).collect();
     let lengths: Vec<f64> = solved.iter().filter_map(|r| r.length).map(|l| l as f64).collect();
@@ -329,7 +339,7 @@ pub(crate) fn report(ctx: &Context) -> String {
     if invalid.is_empty() {
         let _ = writeln!(out, "**Every plan found is valid.**\n");
     } else {
-        let _ = writeln!(out, "## **{} INVALID PLANS**\n", invalid.len());
+        let _ = writeln!(out, "### **{} INVALID PLANS**\n", invalid.len());
         let _ = writeln!(out, "| problem | event | way | validation |\n|---|---|---|---|");
         for (j, r) in &invalid {
             let err = r.val.iter().chain(r.hier.iter()).find_map(|v| v.1.clone()).unwrap_or_default();
@@ -342,7 +352,7 @@ pub(crate) fn report(ctx: &Context) -> String {
     for (j, r) in &crashes {
         let _ = writeln!(out, "- **crash**: {} {} {}: {}", j.problem, j.event, j.mode.name(), r.detail);
     }
-    let _ = writeln!(out, "## Targets\n");
+    let _ = writeln!(out, "### Targets\n");
     let _ = writeln!(out, "All events together:\n\n| target | met |\n|---|---|");
     for (text, met) in targets(&all, repaired_invalid, repaired) {
         let _ = writeln!(out, "| {text} | {} |", if met { "yes" } else { "**no**" });
@@ -364,18 +374,18 @@ pub(crate) fn report(ctx: &Context) -> String {
     }
     let _ = writeln!(
         out,
-        "\n## Figures 12 and 13, per event\n\nThe paper's three rows: time (problems solved within a time), plan length, instability; and how instability grows with the old plan's length (least squares over the solved problems). The stage that found the plan: `stage1` the search from the old plan without its obsolete steps, `ringN` after removing N rings of steps around them, `replan` the full replan that ends a repair.\n"
+        "\n### Figures 12 and 13, per event\n\nThe paper's three rows: time (problems solved within a time), plan length, instability; and how instability grows with the old plan's length (least squares over the solved problems). The stage that found the plan: `stage1` the search from the old plan without its obsolete steps, `ringN` after removing N rings of steps around them, `replan` the full replan that ends a repair.\n"
     );
     for e in EVENTS {
         let es: Vec<&Triple> = ts.iter().filter(|t| t.event == e).collect();
-        let _ = writeln!(out, "### {e}\n");
+        let _ = writeln!(out, "#### {e}\n");
         figure_rows(&mut out, &es, ctx.limit);
         out.push('\n');
     }
     // Instability by the old plan's length, in bands.
     let _ = writeln!(
         out,
-        "## Instability by the old plan's length\n\nMedian instability of the solved runs, per band of old plan length (actions).\n"
+        "### Instability by the old plan's length\n\nMedian instability of the solved runs, per band of old plan length (actions).\n"
     );
     let mut bands: Vec<u64> = ts.iter().filter_map(|t| t.old_length).collect();
     bands.sort_unstable();
@@ -414,7 +424,7 @@ pub(crate) fn report(ctx: &Context) -> String {
     // Every run.
     let _ = writeln!(
         out,
-        "\n## Every problem and event\n\nPer way: status, time, length, instability / distance, and for the repairs the stage that found the plan and the steps of the old plan removed.\n"
+        "\n### Every problem and event\n\nPer way: status, time, length, instability / distance, and for the repairs the stage that found the plan and the steps of the old plan removed.\n"
     );
     let _ = writeln!(
         out,
@@ -453,6 +463,11 @@ pub(crate) fn report(ctx: &Context) -> String {
 }
 
 pub(crate) const CSV_HEAD: &str = "problem,event,way,status,detail,time_s,search_s,expanded,stage,stages,old_steps_kept_stage1,old_steps_removed,old_length,length,abstract_steps,makespan,instability,distance,actions_removed,actions_added,actions_retimed,val_valid,hier_valid,validation_error,peak_rss_kb";
+
+/// A CSV field.
+pub(crate) fn csv_field_text(s: &str) -> String {
+    csv_field(s)
+}
 
 fn opt<T: ToString>(x: Option<T>) -> String {
     x.map(|v| v.to_string()).unwrap_or_default()
