@@ -240,7 +240,7 @@ fn a_step_executed_at_time_zero_comes_after_the_initial_state() {
 }
 
 /// The lost-robot fixture: r1 moves to b and patrols; its sensor fails at
-/// 5 s, during its move (`lost.pddl`: its `visible` facts end then).
+/// 5 s, during its move (`new-problem.pddl`: its `visible` facts end then).
 fn lost_robot(
     problem_edit: &dyn Fn(&str) -> String,
     options: &RepairOptions,
@@ -249,7 +249,7 @@ fn lost_robot(
     plan_then_repair(
         &read(&format!("{dir}/domain.pddl")),
         &problem_edit(&read(&format!("{dir}/problem.pddl"))),
-        Some(&problem_edit(&read(&format!("{dir}/lost.pddl")))),
+        Some(&problem_edit(&read(&format!("{dir}/new-problem.pddl")))),
         options,
     )
 }
@@ -361,7 +361,7 @@ fn the_first_ring_holds_another_robots_step_that_an_obsolete_step_supported() {
     let (old, result, errors) = plan_then_repair(
         &read(&format!("{dir}/domain.pddl")),
         &read(&format!("{dir}/problem.pddl")),
-        Some(&read(&format!("{dir}/moved.pddl"))),
+        Some(&read(&format!("{dir}/new-problem.pddl"))),
         &RepairOptions::default(),
     );
     assert!(
