@@ -44,7 +44,6 @@ use rustc_hash::FxHashSet;
 
 use crate::db::{Db, Unit};
 use crate::plan::Plan as PlanFile;
-use crate::planner::heuristic::Heuristic;
 use crate::planner::output::SolvedPlan;
 use crate::planner::search::{Search, Seed, SeedOrder, SeedStep};
 use crate::planner::stn::{EPS, Tp};
@@ -446,7 +445,9 @@ fn out_of_reach(prepared: &mut Prepared<'_>, unreachable: &[String]) {
         op.methods.retain(|&m| !methods[m as usize].subtasks.iter().any(|&(_, s)| out[s as usize]));
     }
     task.rebuild_achievers();
-    prepared.h = Heuristic::new(&prepared.task);
+    // The heuristic is kept: rebuilt without the agent's actions, it would
+    // call the conditions of its own frozen steps unreachable (its
+    // positions after the first), and no start plan would hold them.
 }
 
 /// A start plan, each plan step's seed step, and each seed step's old step.

@@ -391,3 +391,67 @@ fn repair_no_plan() {
     assert!(run.report.contains("error[E0502]"), "{}", run.report);
     assert!(run.report.ends_with("error: no plan, even after the full replan\n"), "{}", run.report);
 }
+
+/// The case study with a robot out of service mid-mission (section 5.5 of
+/// the HiPOP paper, `samples/surveillance/problem-lost-mona2.pddl`): mona2
+/// can no longer observe from 3000 s; the repair with `--now 3000` removes
+/// its observations and then its second patrol, another large UGV patrols,
+/// nothing new starts before 3000 s, and the plan is valid. With mona3 out
+/// of communication too, mona1 patrols.
+#[test]
+fn repair_of_a_robot_out_of_service() {
+    let dir = TempDir::new("repair-lost");
+    let domain = "samples/surveillance/domain.pddl";
+    let old = dir.0.join("old.plan");
+    let old_s = old.to_str().expect("UTF-8 temp path");
+    let o = hipop(&["plan", domain, "samples/surveillance/problem.pddl", "-o", old_s, "-q"]);
+    assert_eq!(status(&o), 0, "{}", stderr(&o));
+    let lost = "samples/surveillance/problem-lost-mona2.pddl";
+    let repaired = dir.0.join("repaired.plan");
+    let repaired_s = repaired.to_str().expect("UTF-8 temp path");
+    for (unreachable, taker) in [(None, "mona3"), (Some("mona3"), "mona1")] {
+        let mut args = vec!["repair", domain, lost, old_s, "--now", "3000", "-o", repaired_s];
+        if let Some(u) = unreachable {
+            args.extend(["--unreachable", u]);
+        }
+        let o = hipop(&args);
+        assert_no_panic(&o);
+        assert_eq!(status(&o), 0, "{}", stderr(&o));
+        let err = stderr(&o);
+        assert!(err.contains("removed (patrol-ugv-large-3 mona2) (step 255): ring 1"), "{err}");
+        assert!(
+            err.contains("a condition that only the initial state and timed literals give never holds again")
+        );
+        let o = hipop(&["validate", domain, lost, repaired_s]);
+        assert_eq!(status(&o), 0, "{}", stderr(&o));
+        let plan = std::fs::read_to_string(&repaired).expect("the repaired plan");
+        let old_text = std::fs::read_to_string(&old).expect("the old plan");
+        assert!(plan.lines().any(|l| l.contains(&format!("patrol-ugv-large-3 {taker}"))), "{plan}");
+        // Every step of the repaired plan that the old plan does not have
+        // starts at 3000 s or later.
+        let steps = |t: &str| -> Vec<(String, f64)> {
+            let calls: std::collections::HashMap<String, String> = t
+                .lines()
+                .filter_map(|l| {
+                    let (id, rest) = l.split_once(' ')?;
+                    id.parse::<u32>().ok()?;
+                    Some((id.to_string(), rest.split(" -> ").next()?.to_string()))
+                })
+                .collect();
+            t.lines()
+                .filter_map(|l| {
+                    let mut w = l.strip_prefix(";@ ")?.split_whitespace();
+                    let (id, start) = (w.next()?, w.next()?.parse().ok()?);
+                    Some((calls.get(id)?.clone(), start))
+                })
+                .collect()
+        };
+        let before = steps(&old_text);
+        let new: Vec<(String, f64)> = steps(&plan)
+            .into_iter()
+            .filter(|(call, t)| !before.iter().any(|(c, u)| c == call && (t - u).abs() < 0.001))
+            .collect();
+        assert!(!new.is_empty());
+        assert!(new.iter().all(|(_, t)| *t >= 3000.0), "{new:?}");
+    }
+}
