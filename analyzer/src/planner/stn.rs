@@ -12,8 +12,8 @@
 //!   positive cycle through the new edge: the propagation comes back to raise
 //!   its tail, or raises the origin (a deadline missed). Either refuses the
 //!   edge. The makespan of a plan is the latest `est` of its steps.
-//! - `after` is the transitive closure of the edges of positive weight, one
-//!   bit row per time point: `b ∈ after[a]` means `t_b > t_a` in every
+//! - `pred` is the transitive closure of the edges of positive weight, one
+//!   bit row per time point: `a ∈ pred[b]` means `t_b > t_a` in every
 //!   solution. It answers "can this step come between these two?" (threats,
 //!   Definitions 8, 11, 13) in one bit test. It misses orderings that only
 //!   durations or deadlines imply, which can only make the planner see a
@@ -23,6 +23,7 @@
 //! Every row and every adjacency list is shared with the parent plan until
 //! written ([`PVec`] and `Rc`).
 
+use std::cmp::Reverse;
 use std::collections::VecDeque;
 use std::rc::Rc;
 
@@ -36,6 +37,25 @@ const NOISE: f64 = 1e-9;
 pub type Tp = u32;
 pub const ORIGIN: Tp = 0;
 
+/// A slack and its point, ordered by slack (a total order on floats), for
+/// the heap of [`Stn::slacks_below`].
+#[derive(Clone, Copy, PartialEq)]
+struct Key(f64, Tp);
+
+impl Eq for Key {}
+
+impl PartialOrd for Key {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Key {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0).then(self.1.cmp(&other.1))
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Edge {
     pub to: Tp,
@@ -46,7 +66,10 @@ pub struct Edge {
 pub struct Stn {
     est: PVec<f64>,
     out: PVec<Rc<Vec<Edge>>>,
-    after: PVec<Rc<Vec<u64>>>,
+    /// The same edges by head: `inn[b]` holds `Edge { to: a, w }` for each
+    /// edge `a → b` (the backward search of [`Stn::slacks_below`]).
+    inn: PVec<Rc<Vec<Edge>>>,
+    pred: PVec<Rc<Vec<u64>>>,
 }
 
 impl Default for Stn {
@@ -58,7 +81,7 @@ impl Default for Stn {
 impl Stn {
     /// A network with the origin only.
     pub fn new() -> Stn {
-        let mut s = Stn { est: PVec::new(), out: PVec::new(), after: PVec::new() };
+        let mut s = Stn { est: PVec::new(), out: PVec::new(), inn: PVec::new(), pred: PVec::new() };
         s.add_point();
         s
     }
@@ -76,7 +99,8 @@ impl Stn {
         let t = self.est.len() as Tp;
         self.est.push(0.0);
         self.out.push(Rc::new(Vec::new()));
-        self.after.push(Rc::new(Vec::new()));
+        self.inn.push(Rc::new(Vec::new()));
+        self.pred.push(Rc::new(Vec::new()));
         t
     }
 
@@ -91,8 +115,8 @@ impl Stn {
 
     /// Whether `b` is at or after `a` in every solution (by the closure).
     pub fn before(&self, a: Tp, b: Tp) -> bool {
-        let row = &self.after[a as usize];
-        row.get(b as usize / 64).is_some_and(|w| w >> (b % 64) & 1 == 1)
+        let row = &self.pred[b as usize];
+        row.get(a as usize / 64).is_some_and(|w| w >> (a % 64) & 1 == 1)
     }
 
     /// Whether `t_b ≥ t_a + w` already holds in the closure's sense: `b` is
@@ -112,10 +136,23 @@ impl Stn {
         }
         {
             let out = Rc::make_mut(self.out.get_mut(a as usize).expect("in bounds"));
-            match out.iter_mut().find(|e| e.to == b) {
-                Some(e) if e.w >= w => {}
-                Some(e) => e.w = w,
-                None => out.push(Edge { to: b, w }),
+            let stronger = match out.iter_mut().find(|e| e.to == b) {
+                Some(e) if e.w >= w => false,
+                Some(e) => {
+                    e.w = w;
+                    true
+                }
+                None => {
+                    out.push(Edge { to: b, w });
+                    true
+                }
+            };
+            if stronger {
+                let inn = Rc::make_mut(self.inn.get_mut(b as usize).expect("in bounds"));
+                match inn.iter_mut().find(|e| e.to == a) {
+                    Some(e) => e.w = w,
+                    None => inn.push(Edge { to: a, w }),
+                }
             }
         }
         if w >= 0.0 {
@@ -198,74 +235,87 @@ impl Stn {
         true
     }
 
-    /// The latest times that keep `target` at its earliest time: `lst[t]` is
-    /// the latest `t` can be without delaying `target` (`INFINITY` for points
-    /// that do not precede it). Adding `t_b ≥ t_a + w` then delays `target`
-    /// by at least `est(a) + w − lst(b)` (exactly, when only lower bounds
-    /// lie between `b` and `target`). A reverse label-correcting pass.
-    pub fn latest_for(&self, target: Tp) -> Vec<f64> {
+    /// The slacks of points before `target`: how much later than its
+    /// earliest time each point of `wanted` can be without delaying
+    /// `target`, each known only below its bound (`INFINITY` at or above
+    /// it, as for points that do not precede `target`). Adding
+    /// `t_b ≥ t_a + w` then delays `target` by at least
+    /// `est(a) + w − est(b) − slack(b)` (exactly, when only lower bounds lie
+    /// between `b` and `target`).
+    pub fn slacks_below(&self, target: Tp, wanted: &[(Tp, f64)]) -> Vec<f64> {
+        // With the earliest times as potentials, the slack of an edge
+        // `a → b`, `est(b) − est(a) − w`, is never negative (up to rounding),
+        // so the least total slack from each point to `target` is a
+        // Dijkstra search backwards from it, each point settled once, which
+        // stops once the wanted points are settled or their bounds passed.
+        // Maps, not vectors: a call costs the points it reaches.
         let n = self.len();
-        // Reverse adjacency, compressed.
-        let mut start = vec![0u32; n + 1];
-        for a in 0..n {
-            for e in self.edges(a as Tp) {
-                start[e.to as usize + 1] += 1;
+        let mut slack: rustc_hash::FxHashMap<Tp, f64> = rustc_hash::FxHashMap::default();
+        let mut done: rustc_hash::FxHashSet<Tp> = rustc_hash::FxHashSet::default();
+        // The wanted points by bound, the greatest last.
+        let mut open: Vec<(f64, Tp)> =
+            wanted.iter().filter(|&&(t, b)| b > 0.0 && (t as usize) < n).map(|&(t, b)| (b, t)).collect();
+        open.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut heap = std::collections::BinaryHeap::new();
+        if (target as usize) < n {
+            slack.insert(target, 0.0);
+            heap.push(Reverse(Key(0.0, target)));
+        }
+        while let Some(Reverse(Key(sb, b))) = heap.pop() {
+            while open.last().is_some_and(|&(_, t)| done.contains(&t)) {
+                open.pop();
             }
-        }
-        for i in 0..n {
-            start[i + 1] += start[i];
-        }
-        let mut fill = start.clone();
-        let mut rev = vec![Edge { to: 0, w: 0.0 }; start[n] as usize];
-        for a in 0..n {
-            for e in self.edges(a as Tp) {
-                let k = &mut fill[e.to as usize];
-                rev[*k as usize] = Edge { to: a as Tp, w: e.w };
-                *k += 1;
+            let Some(&(max_bound, _)) = open.last() else { break };
+            if sb >= max_bound {
+                break;
             }
-        }
-        let mut lst = vec![f64::INFINITY; n];
-        lst[target as usize] = self.est(target);
-        let mut queue = VecDeque::from([target]);
-        let mut budget = 64 * (n + 16) * (n + 16);
-        while let Some(b) = queue.pop_front() {
-            let tb = lst[b as usize];
-            for e in &rev[start[b as usize] as usize..start[b as usize + 1] as usize] {
-                // t_b ≥ t_a + w  ⇒  t_a ≤ t_b − w.
-                let t = tb - e.w;
-                if t < lst[e.to as usize] - NOISE {
-                    lst[e.to as usize] = t;
-                    queue.push_back(e.to);
+            if !done.insert(b) {
+                continue;
+            }
+            let eb = self.est(b);
+            for e in self.inn[b as usize].iter() {
+                if done.contains(&e.to) {
+                    continue;
                 }
-                budget = budget.saturating_sub(1);
-                if budget == 0 {
-                    return lst;
+                let s = sb + (eb - self.est(e.to) - e.w).max(0.0);
+                let cur = slack.entry(e.to).or_insert(f64::INFINITY);
+                if s < *cur {
+                    *cur = s;
+                    heap.push(Reverse(Key(s, e.to)));
                 }
             }
         }
-        lst
+        wanted
+            .iter()
+            .map(|&(t, b)| match slack.get(&t) {
+                Some(&s) if s < b && done.contains(&t) => s,
+                _ => f64::INFINITY,
+            })
+            .collect()
     }
 
-    /// Adds `a < b` to the closure: every point at or before `a` gets `b`
-    /// and what follows `b`.
+    /// Adds `a < b` to the closure: every point at or after `b` gets `a`
+    /// and what precedes `a`. (Rows of predecessors: new steps mostly come
+    /// after the plan's others, and a point late in the plan has few
+    /// successors to update, where it has many predecessors.)
     fn close(&mut self, a: Tp, b: Tp) {
         if self.before(a, b) {
             return;
         }
-        let mut add: Vec<u64> = self.after[b as usize].as_ref().clone();
-        let (word, bit) = (b as usize / 64, b % 64);
+        let mut add: Vec<u64> = self.pred[a as usize].as_ref().clone();
+        let (word, bit) = (a as usize / 64, a % 64);
         if add.len() <= word {
             add.resize(word + 1, 0);
         }
         add[word] |= 1 << bit;
-        for x in 0..self.len() {
-            if x != a as usize && !self.before(x as Tp, a) {
+        for y in 0..self.len() {
+            if y != b as usize && !self.before(b, y as Tp) {
                 continue;
             }
-            if self.before(x as Tp, b) {
+            if self.before(a, y as Tp) {
                 continue;
             }
-            let row = Rc::make_mut(self.after.get_mut(x).expect("in bounds"));
+            let row = Rc::make_mut(self.pred.get_mut(y).expect("in bounds"));
             if row.len() < add.len() {
                 row.resize(add.len(), 0);
             }
@@ -344,17 +394,102 @@ mod tests {
         assert_eq!(s.est(b), 11.5);
         // b must stay at 11.5 for itself: a may not slip; a point after a
         // by 1 with nothing after it may slip to the horizon.
-        let lb = s.latest_for(b);
-        assert_eq!(lb[a as usize], 1.5);
-        assert_eq!(lb[b as usize], 11.5);
+        let slack = |s: &Stn, t: Tp, target: Tp| s.slacks_below(target, &[(t, f64::INFINITY)])[0];
+        assert_eq!(slack(&s, a, b), 0.0);
+        assert_eq!(slack(&s, b, b), 0.0);
         let c = s.add_point();
         assert!(s.add(a, c, 1.0));
-        let lb = s.latest_for(b);
-        assert_eq!(lb[c as usize], f64::INFINITY);
-        // Delaying b's predecessor a past its latest time delays b.
-        assert!(s.est(c) + EPS > lb[a as usize]);
+        assert_eq!(slack(&s, c, b), f64::INFINITY);
+        // Below a bound only: a point with slack 3 is unknown below 3.
+        let d = s.add_point();
+        assert!(s.add(d, b, 4.0));
+        assert!(s.add(ORIGIN, d, 1.0));
+        assert_eq!(s.est(d), 1.0);
+        assert_eq!(slack(&s, d, b), 6.5);
+        assert_eq!(s.slacks_below(b, &[(d, 6.5)])[0], f64::INFINITY);
+        assert_eq!(s.slacks_below(b, &[(d, 7.0)])[0], 6.5);
         let lst = s.latest(20.0);
         assert_eq!(lst[b as usize], 12.0);
         assert_eq!(lst[a as usize], 2.0);
+    }
+
+    /// `slacks_below` against the definition, by rounds of relaxation over
+    /// every edge, on random consistent networks (orderings, durations both
+    /// ways, release dates and deadlines).
+    #[test]
+    fn slacks_agree_with_relaxation_to_a_fixpoint() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move |m: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % m
+        };
+        for _ in 0..400 {
+            let mut s = Stn::new();
+            let n = 2 + next(30) as usize;
+            let pts: Vec<Tp> = (0..n).map(|_| s.add_point()).collect();
+            let sink = pts[next(n as u64) as usize];
+            for _ in 0..next(60) {
+                let (a, b) = (pts[next(n as u64) as usize], pts[next(n as u64) as usize]);
+                let w = match next(4) {
+                    0 => EPS,
+                    1 => next(50) as f64,
+                    2 => -(next(50) as f64),
+                    _ => 0.0,
+                };
+                let mut t = s.clone();
+                if t.add(a, b, w) {
+                    s = t;
+                }
+                if next(8) == 0 {
+                    let d = next(200) as f64;
+                    let mut t = s.clone();
+                    if t.add(a, ORIGIN, -d) {
+                        s = t;
+                    }
+                }
+            }
+            let mut want = vec![f64::INFINITY; s.len()];
+            want[sink as usize] = s.est(sink);
+            for _ in 0..=s.len() {
+                for a in 0..s.len() {
+                    for e in s.edges(a as Tp) {
+                        let t = want[e.to as usize] - e.w;
+                        if t < want[a] {
+                            want[a] = t;
+                        }
+                    }
+                }
+            }
+            // Every point's slack, then some below a bound.
+            let all: Vec<(Tp, f64)> = (0..s.len() as Tp).map(|t| (t, f64::INFINITY)).collect();
+            let got = s.slacks_below(sink, &all);
+            for (t, w) in want.iter().enumerate() {
+                let slack = w - s.est(t as Tp);
+                assert!(
+                    got[t] == slack || (got[t] - slack).abs() < 1e-6,
+                    "slack of {t} = {} but relaxation gives {slack} (target {sink})",
+                    got[t]
+                );
+            }
+            let mut some: Vec<(Tp, f64)> = Vec::new();
+            for t in 0..s.len() as Tp {
+                if next(3) == 0 {
+                    some.push((t, next(40) as f64 - 5.0));
+                }
+            }
+            let part = s.slacks_below(sink, &some);
+            for (k, &(t, bound)) in some.iter().enumerate() {
+                let slack = want[t as usize] - s.est(t);
+                let expected = if slack < bound { slack } else { f64::INFINITY };
+                let at_bound = (slack - bound).abs() < 1e-6;
+                assert!(
+                    at_bound || part[k] == expected || (part[k] - expected).abs() < 1e-6,
+                    "slack of {t} below {bound} (target {sink}): {} but {expected}",
+                    part[k]
+                );
+            }
+        }
     }
 }

@@ -95,12 +95,27 @@ impl Search<'_, '_> {
         if p.threats.is_empty() {
             return Some(0.0);
         }
-        let lst = p.stn.latest_for(p.goal_tp);
-        let mut penalty: f64 = 0.0;
+        // Ordering `a` before `b` delays the goal by `d − slack(b)`, with
+        // `d = est(a) + ε − est(b)`: only a slack below `d` delays it, and
+        // only a threat whose two orderings both may delay it adds to the
+        // penalty.
+        let mut wanted: Vec<(Tp, f64)> = Vec::new();
         for t in p.threats.iter() {
             let [(a1, b1), (a2, b2)] = self.threat_orders(p, t);
-            let d1 = p.stn.est(a1) + EPS - lst[b1 as usize];
-            let d2 = p.stn.est(a2) + EPS - lst[b2 as usize];
+            let d1 = p.stn.est(a1) + EPS - p.stn.est(b1);
+            let d2 = p.stn.est(a2) + EPS - p.stn.est(b2);
+            if d1 > 0.0 && d2 > 0.0 {
+                wanted.extend([(b1, d1), (b2, d2)]);
+            }
+        }
+        if wanted.is_empty() {
+            return Some(0.0);
+        }
+        let slack = p.stn.slacks_below(p.goal_tp, &wanted);
+        let mut penalty: f64 = 0.0;
+        for (k, pair) in wanted.chunks(2).enumerate() {
+            let d1 = pair[0].1 - slack[2 * k];
+            let d2 = pair[1].1 - slack[2 * k + 1];
             penalty = penalty.max(d1.min(d2));
         }
         Some(penalty.max(0.0))
