@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use hipop_analyzer::planner::output::SolvedPlan;
 use hipop_analyzer::planner::{Config, PlannerLimits, Status};
 use hipop_analyzer::repair::{RepairOptions, Stage, Why};
 use hipop_analyzer::{AnalysisHost, RepairResult};
@@ -25,6 +26,18 @@ fn plan_then_repair(
     new_problem: Option<&str>,
     options: &RepairOptions,
 ) -> (Vec<String>, RepairResult, Vec<String>) {
+    let (old, result, errors) = plan_then_repair_plan(domain, problem, new_problem, options);
+    let old_steps = old.primitive().map(|s| format!("({} {})", s.name, s.args.join(" "))).collect();
+    (old_steps, result, errors)
+}
+
+/// [`plan_then_repair`], with the old plan itself.
+fn plan_then_repair_plan(
+    domain: &str,
+    problem: &str,
+    new_problem: Option<&str>,
+    options: &RepairOptions,
+) -> (SolvedPlan, RepairResult, Vec<String>) {
     let mut host = AnalysisHost::new();
     host.set_file_text("domain.pddl", domain.to_string());
     let p = host.set_file_text("problem.pddl", problem.to_string());
@@ -34,8 +47,6 @@ fn plan_then_repair(
     assert_eq!(planned.status, Status::Solved);
     let old = planned.plan.unwrap();
     let text = if old.is_hierarchical() { old.to_hierarchical("") } else { old.to_val("") };
-    let old_steps: Vec<String> =
-        old.primitive().map(|s| format!("({} {})", s.name, s.args.join(" "))).collect();
     let np = match new_problem {
         Some(t) => host.set_file_text("new-problem.pddl", t.to_string()),
         None => p,
@@ -58,7 +69,7 @@ fn plan_then_repair(
             .map(|d| format!("{} {}", d.code.id, d.message))
             .collect();
     }
-    (old_steps, result, errors)
+    (old, result, errors)
 }
 
 fn primitive(result: &RepairResult) -> Vec<String> {
@@ -111,6 +122,101 @@ fn a_new_goal_keeps_the_old_steps() {
         repaired.remove(k);
     }
     assert!(repaired.iter().any(|s| s.contains("Star0")), "added for the new goal: {repaired:?}");
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+/// The primitive steps of a plan with their start times.
+fn timed(plan: &SolvedPlan) -> Vec<String> {
+    sorted(plan.primitive().map(|s| format!("{:.3} ({} {})", s.start, s.name, s.args.join(" "))).collect())
+}
+
+fn survivors(event: &str) -> (String, String, String) {
+    let dir = "samples/survivors/repair";
+    (
+        read(&format!("{dir}/domain.pddl")),
+        read(&format!("{dir}/p-t2-r2-z4-s2.pddl")),
+        read(&format!("{dir}/p-t2-r2-z4-s2-{event}.pddl")),
+    )
+}
+
+/// With geometric reasoning, the robots' itineraries are replayed from the
+/// old plan: a new survivor (the paper's newSurvivor event) is rescued once
+/// its team's old work is done, and every old action keeps its time. Before,
+/// the itineraries were planned again from the start and the rescue went in
+/// the middle, delaying every later action of its team.
+#[test]
+fn a_new_survivor_is_rescued_after_the_old_work_which_keeps_its_times() {
+    let (domain, problem, new) = survivors("newSurvivor");
+    let (old, result, errors) =
+        plan_then_repair_plan(&domain, &problem, Some(&new), &RepairOptions::default());
+    assert_eq!(result.status, Status::Solved);
+    assert_eq!(result.stage, Some(Stage::Obsolete));
+    assert!(result.removed.is_empty(), "{:?}", result.removed);
+    let old_timed = timed(&old);
+    let mut repaired = timed(result.plan.as_ref().expect("a plan"));
+    for step in &old_timed {
+        let k = repaired
+            .iter()
+            .position(|s| s == step)
+            .unwrap_or_else(|| panic!("{step} at its time: {repaired:?}"));
+        repaired.remove(k);
+    }
+    assert!(repaired.iter().any(|s| s.contains("s3")), "added for the new survivor: {repaired:?}");
+    // Every step for s3 starts once its robots' old steps have ended.
+    for s in result.plan.as_ref().expect("a plan").primitive().filter(|s| s.args.iter().any(|a| a == "s3")) {
+        let team_end = old
+            .primitive()
+            .filter(|o| o.agents.iter().any(|a| s.agents.contains(a)))
+            .map(|o| o.end)
+            .fold(0.0, f64::max);
+        assert!(
+            s.start >= team_end,
+            "({} {}) starts at {}, before {team_end}",
+            s.name,
+            s.args.join(" "),
+            s.start
+        );
+    }
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+/// A robot that starts elsewhere (startingPos): its itinerary breaks at its
+/// first visit and is planned again from where it is, in the old order; the
+/// other team's itineraries are replayed whole, their actions at their old
+/// times.
+#[test]
+fn a_robot_that_starts_elsewhere_leaves_the_other_team_as_it_was() {
+    let (domain, problem, new) = survivors("startingPos");
+    assert!(new.contains("robot r4 starts at l1_3"), "the event of the sample");
+    let (old, result, errors) =
+        plan_then_repair_plan(&domain, &problem, Some(&new), &RepairOptions::default());
+    assert_eq!(result.status, Status::Solved);
+    assert_eq!(result.stage, Some(Stage::Obsolete));
+    let plan = result.plan.as_ref().expect("a plan");
+    let team = |p: &SolvedPlan, robot: &str| -> Vec<String> {
+        sorted(
+            p.primitive()
+                .filter(|s| s.agents.iter().any(|a| a == robot))
+                .map(|s| format!("{:.3} ({} {})", s.start, s.name, s.args.join(" ")))
+                .collect(),
+        )
+    };
+    // r4's teammate is the robot it carries with; the others are r1 and r2
+    // or r3, whichever is not on its team.
+    let others: Vec<&str> = ["r1", "r2", "r3"]
+        .into_iter()
+        .filter(|r| {
+            !old.primitive().any(|s| s.agents.iter().any(|a| a == "r4") && s.agents.iter().any(|a| a == r))
+        })
+        .collect();
+    assert!(!others.is_empty(), "a team without r4");
+    for r in others {
+        assert_eq!(team(plan, r), team(&old, r), "{r} keeps its actions and times");
+    }
+    assert!(
+        plan.primitive().any(|s| s.name == "move" && s.args[0] == "r4" && s.args[1] == "l1_3"),
+        "r4 leaves l1_3"
+    );
     assert!(errors.is_empty(), "{errors:?}");
 }
 

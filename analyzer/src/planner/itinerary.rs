@@ -312,7 +312,7 @@ impl Geo {
     }
 
     /// `p` with visit `i` next in itinerary `b` (tail `ti`).
-    fn visit(
+    pub fn visit(
         &self,
         task: &Task<'_>,
         h: &Heuristic,
@@ -457,7 +457,8 @@ fn sep(o: &Open) -> f64 {
     if o.origin == OpenOrigin::AbstractEffect { 0.0 } else { EPS }
 }
 
-fn tail_index(p: &Plan, group: u32, scope: u32) -> Option<usize> {
+/// Where the tail of an itinerary is in [`Plan::tails`], if it has started.
+pub fn tail_index(p: &Plan, group: u32, scope: u32) -> Option<usize> {
     p.tails.iter().position(|t| t.group == group && t.scope == scope)
 }
 

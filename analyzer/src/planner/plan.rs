@@ -310,6 +310,59 @@ impl Plan {
         }
     }
 
+    /// Records the threats of every step on the links from `first` on:
+    /// [`Plan::threats_of_link`] for many links at once, the candidate
+    /// steps of each found in an index of the steps by effect (a step that
+    /// deletes the link's literal, sets another position of its family, or
+    /// may conflict with it) instead of every step for every link.
+    pub fn threats_of_links(&mut self, task: &Task<'_>, first: u32) {
+        if first as usize >= self.links.len() {
+            return;
+        }
+        let mut by_lit: rustc_hash::FxHashMap<Lit, Vec<u32>> = rustc_hash::FxHashMap::default();
+        let mut by_group: rustc_hash::FxHashMap<u32, Vec<u32>> = rustc_hash::FxHashMap::default();
+        let mut conflicting = Vec::new();
+        for k in 0..self.steps.len() as u32 {
+            for (l, _) in self.effects(task, k) {
+                by_lit.entry(l).or_default().push(k);
+                if !is_neg(l)
+                    && let Some((g, _)) = task.family[atom_of(l) as usize]
+                {
+                    by_group.entry(g).or_default().push(k);
+                }
+            }
+            if let Kind::Op(o) = self.steps[k as usize].kind
+                && !task.ops[o as usize].conflicts.is_empty()
+            {
+                conflicting.push(k);
+            }
+        }
+        let mut found = Vec::new();
+        let mut kinds = Vec::new();
+        let mut candidates = Vec::new();
+        for i in first..self.links.len() as u32 {
+            let link = self.links[i as usize];
+            candidates.clear();
+            candidates.extend(by_lit.get(&negate(link.lit)).into_iter().flatten());
+            if !is_neg(link.lit)
+                && let Some((g, _)) = task.family[atom_of(link.lit) as usize]
+            {
+                candidates.extend(by_group.get(&g).into_iter().flatten());
+            }
+            candidates.extend(&conflicting);
+            candidates.sort_unstable();
+            candidates.dedup();
+            for &k in &candidates {
+                kinds.clear();
+                self.threat_of(task, k, &link, &mut kinds);
+                found.extend(kinds.iter().map(|&kind| Threat { link: i, step: k, kind }));
+            }
+        }
+        if !found.is_empty() {
+            Rc::make_mut(&mut self.threats).extend(found);
+        }
+    }
+
     /// Adds a step for operator `o` (under `parent`, if a method introduces
     /// it) with its open links and threats. `None` if the network rejects it.
     pub fn add_step(&mut self, task: &Task<'_>, h: &Heuristic, o: u32, parent: Option<u32>) -> Option<u32> {
@@ -399,21 +452,34 @@ impl Plan {
     /// Adds the causal link `from —lit→ open` and its threats.
     pub fn add_link(&mut self, task: &Task<'_>, from: u32, from_tp: Tp, o: &Open) -> bool {
         // The step's own start supporting its `over all` condition needs no
-        // ordering. An abstract step's effect holds once the subtask that
-        // makes it has ended: the same happening as the step's end, no ε.
-        let sep = if o.origin == OpenOrigin::AbstractEffect { 0.0 } else { EPS };
-        self.add_link_after(task, from, from_tp, o, sep)
+        // ordering (no edge is added for a need at the producer's own point).
+        self.add_link_after(task, from, from_tp, o, Plan::link_separation(o))
+    }
+
+    /// The least separation of a need from its producer: ε, none for the
+    /// effect of an abstract step, which holds once the subtask that makes
+    /// it has ended (the same happening as the step's end).
+    pub fn link_separation(o: &Open) -> f64 {
+        if o.origin == OpenOrigin::AbstractEffect { 0.0 } else { EPS }
     }
 
     /// [`Plan::add_link`], the need at least `sep` after the producer.
     pub fn add_link_after(&mut self, task: &Task<'_>, from: u32, from_tp: Tp, o: &Open, sep: f64) -> bool {
+        let i = self.links.len() as u32;
+        if !self.add_link_without_threats(from, from_tp, o, sep) {
+            return false;
+        }
+        self.threats_of_link(task, i);
+        true
+    }
+
+    /// [`Plan::add_link_after`] without looking for the link's threats: the
+    /// caller records them later ([`Plan::threats_of_links`]).
+    pub fn add_link_without_threats(&mut self, from: u32, from_tp: Tp, o: &Open, sep: f64) -> bool {
         if from_tp != o.need && !self.stn.add(from_tp, o.need, sep) {
             return false;
         }
-        let link = Link { from, from_tp, to: o.step, need: o.need, until: o.until, lit: o.lit };
-        let i = self.links.len() as u32;
-        self.links.push(link);
-        self.threats_of_link(task, i);
+        self.links.push(Link { from, from_tp, to: o.step, need: o.need, until: o.until, lit: o.lit });
         true
     }
 

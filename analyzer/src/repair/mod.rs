@@ -745,7 +745,7 @@ impl<'p, 'db> Repair<'p, 'db> {
     /// method (refined when all its subtasks are still in), old times, and
     /// the phantom orderings between them.
     fn seed(&self) -> Seed {
-        self.seed_with(true, false).0
+        self.seed_with(true, true).0
     }
 
     /// The seed, and the old step of each seed step. For the analysis

@@ -7,6 +7,7 @@
 //! them), whether it is fixed in time (executed or running), and the
 //! orderings to keep (phantom links, 5.1.2).
 
+use super::super::itinerary::{self, Geo};
 use super::super::plan::{INIT, Kind, OpenOrigin, Plan};
 use super::super::stn::{EPS, ORIGIN, Tp};
 use rustc_hash::FxHashMap;
@@ -204,6 +205,7 @@ impl Search<'_, '_> {
             }
         }
         self.link_as_before(&mut p, &times);
+        self.replay_itineraries(&mut p, &times);
         self.order_threats_as_before(&mut p, &times);
         if !self.force_threats(&mut p, true) {
             return Err(SeedError::Inconsistent);
@@ -216,6 +218,7 @@ impl Search<'_, '_> {
     /// state. Visits of itineraries are left to them.
     fn link_as_before(&self, p: &mut Plan, times: &OldTimes) {
         let undone = Undone::new(self.task, p, times);
+        let first_link = p.links.len() as u32;
         let mut i = 0;
         let mut producers = Vec::new();
         while i < p.open.len() {
@@ -252,20 +255,82 @@ impl Search<'_, '_> {
                 i += 1;
                 continue;
             }
-            let mut c = p.clone();
-            let open = c.remove_open(i);
             // A step executed at time 0 (other planners start there) reads
             // the initial state in the same happening, no ε after it.
-            let at_origin = s == INIT && need < EPS && !p.stn.allows(ORIGIN, open.need, EPS);
-            let linked = if at_origin {
-                c.add_link_after(self.task, s, tp, &open, 0.0)
-            } else {
-                c.add_link(self.task, s, tp, &open)
-            };
-            if linked {
-                *p = c;
-            } else {
+            let at_origin = s == INIT && need < EPS && !p.stn.allows(ORIGIN, o.need, EPS);
+            let sep = if at_origin { 0.0 } else { Plan::link_separation(&o) };
+            // A dry run first, then the plan changed in place (a copy per
+            // link copied the threats each time); the threats of the links
+            // are recorded at the end, all at once.
+            if tp != o.need && !p.stn.allows(tp, o.need, sep) {
                 i += 1;
+                continue;
+            }
+            let open = p.remove_open(i);
+            let linked = p.add_link_without_threats(s, tp, &open, sep);
+            debug_assert!(linked, "the network allowed the link");
+        }
+        p.threats_of_links(self.task, first_link);
+    }
+}
+
+impl Search<'_, '_> {
+    /// Under geometric reasoning, the itineraries of the old plan, replayed:
+    /// each itinerary goes on, in the old schedule's order, through the
+    /// visits of the old steps that the member makes where it already is
+    /// (a causal link from its tail, as the search links a visit; the moves
+    /// of the old plan are steps of the seed, their own visits among
+    /// those), until the next old visit is elsewhere (a move of the old
+    /// plan is gone, or the member starts elsewhere). The visits left, and
+    /// those of the steps the search adds, go after the tail as the search
+    /// sequences them: new work comes after what the member already does,
+    /// and an itinerary the event did not break costs no search at all.
+    fn replay_itineraries(&self, p: &mut Plan, times: &OldTimes) {
+        let Some(geo) = &self.geo else { return };
+        let old = |p: &Plan, i: usize| times.at(p.open[i].need).filter(|t| t.is_finite());
+        // Each itinerary is replayed until it breaks; a visit is linked at
+        // most once, so this ends.
+        let mut broken: Vec<(u32, u32)> = Vec::new();
+        loop {
+            let pending = geo.pending(self.task, p);
+            let mut c = p.clone();
+            if !geo.unblock(self.task, &mut c, &pending) {
+                return;
+            }
+            *p = c;
+            let mut next = None;
+            for b in &pending {
+                if broken.contains(&(b.group, b.scope)) {
+                    continue;
+                }
+                let Some(ti) = itinerary::tail_index(p, b.group, b.scope) else { continue };
+                let t = p.tails[ti];
+                if t.blocked_by != itinerary::NONE {
+                    continue;
+                }
+                let first = b
+                    .visits
+                    .iter()
+                    .filter_map(|&i| old(p, i).map(|t| (t, i)))
+                    .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                let Some((_, i)) = first else { continue };
+                let o = p.open[i];
+                let here = Geo::position(self.task, o.lit).is_some_and(|(_, pos)| pos == t.pos);
+                let preceded = b.visits.iter().any(|&j| {
+                    let q = p.open[j];
+                    q.step != o.step && q.need != o.need && p.stn.before(q.need, o.need)
+                });
+                if !here || preceded {
+                    broken.push((b.group, b.scope));
+                    continue;
+                }
+                next = Some((b.clone(), ti, i));
+                break;
+            }
+            let Some((b, ti, i)) = next else { return };
+            match geo.visit(self.task, self.h, p, &b, ti, i) {
+                Some(c) => *p = c,
+                None => broken.push((b.group, b.scope)),
             }
         }
     }
