@@ -297,6 +297,17 @@ fn achieves_dropped(prepared: &Prepared<'_>, dropped: &[crate::planner::task::Li
     prepared.task.ops[op as usize].effs.iter().any(|e| dropped.contains(&e.lit))
 }
 
+/// The plans a repair stage's search may expand: as many as the old steps
+/// it keeps, and [`STAGE_NODES`] more. A stage that finds a plan needs far
+/// fewer (on the survivors-repair benchmark, at most 1.7 per step kept, and
+/// 1.06 but for two); a search that needs more is working around old steps
+/// that the next ring removes, and a failing search only ends at a limit.
+fn stage_nodes(kept: usize) -> u64 {
+    kept as u64 + STAGE_NODES
+}
+
+const STAGE_NODES: u64 = 100;
+
 /// One repair, stages and full replan, with the goals of `prepared`.
 #[allow(clippy::too_many_arguments)]
 fn attempt<'db>(
@@ -340,6 +351,10 @@ fn attempt<'db>(
         };
         let seed = Seed { now: options.execution.now, ..r.seed() };
         let kept = r.kept().count();
+        let stage_limits = PlannerLimits {
+            nodes: Some(stage_nodes(kept).min(limits.nodes.unwrap_or(u64::MAX))),
+            ..stage_limits
+        };
         let outcome = prepared.search(db, config, &stage_limits, Some(&seed), cancel, progress);
         stages.push(StageRun {
             stage,
@@ -603,32 +618,51 @@ impl<'p, 'db> Repair<'p, 'db> {
         self.deadlines(now);
         let mut start = self.learn_old_order();
         self.through_removed();
-        // Steps that support nothing, until none is left.
+        // Steps that support nothing, until none is left: removing one
+        // takes the support of its own conditions away, on the same links,
+        // and the start plan is built again only once none is left on them
+        // (its links may then differ).
         while let Some((plan, of_seed, seed_steps)) = start.take().or_else(|| self.start_plan()) {
-            // A link supports its producer and the abstract steps above it
-            // that do not hold its consumer too.
-            let mut supports = vec![false; self.old.len()];
-            for l in plan.links.iter() {
-                let Some(k) = of_seed[l.from as usize] else { continue };
-                let consumer = of_seed[l.to as usize].map(|c| seed_steps[c]);
-                let mut a = Some(seed_steps[k]);
-                while let Some(i) = a {
-                    if consumer.is_some_and(|c| self.holds(i, c)) {
-                        break;
-                    }
-                    supports[i] = true;
-                    a = self.old[i].parent;
-                }
-            }
-            let idle: Vec<usize> = self
-                .kept()
-                .filter(|&i| !supports[i] && self.old[i].parent.is_none() && !self.old[i].frozen)
+            let links: Vec<(usize, Option<usize>)> = plan
+                .links
+                .iter()
+                .filter_map(|l| {
+                    let k = of_seed[l.from as usize]?;
+                    Some((seed_steps[k], of_seed[l.to as usize].map(|c| seed_steps[c])))
+                })
                 .collect();
-            if idle.is_empty() {
-                break;
+            let mut removed_any = false;
+            loop {
+                // A link supports its producer and the abstract steps above
+                // it that do not hold its consumer too.
+                let mut supports = vec![false; self.old.len()];
+                for &(producer, consumer) in &links {
+                    if self.why[producer].is_some() || consumer.is_some_and(|c| self.why[c].is_some()) {
+                        continue;
+                    }
+                    let mut a = Some(producer);
+                    while let Some(i) = a {
+                        if consumer.is_some_and(|c| self.holds(i, c)) {
+                            break;
+                        }
+                        supports[i] = true;
+                        a = self.old[i].parent;
+                    }
+                }
+                let idle: Vec<usize> = self
+                    .kept()
+                    .filter(|&i| !supports[i] && self.old[i].parent.is_none() && !self.old[i].frozen)
+                    .collect();
+                if idle.is_empty() {
+                    break;
+                }
+                for i in idle {
+                    self.remove_with_hierarchy(i, Why::SupportsNothing);
+                }
+                removed_any = true;
             }
-            for i in idle {
-                self.remove_with_hierarchy(i, Why::SupportsNothing);
+            if !removed_any {
+                break;
             }
         }
     }
