@@ -616,53 +616,47 @@ impl<'p, 'db> Repair<'p, 'db> {
         // The old plan's orderings and causal links, from the most complete
         // start plan the new task allows.
         self.deadlines(now);
-        let mut start = self.learn_old_order();
+        let start = self.learn_old_order();
         self.through_removed();
         // Steps that support nothing, until none is left: removing one
-        // takes the support of its own conditions away, on the same links,
-        // and the start plan is built again only once none is left on them
-        // (its links may then differ).
-        while let Some((plan, of_seed, seed_steps)) = start.take().or_else(|| self.start_plan()) {
-            let links: Vec<(usize, Option<usize>)> = plan
-                .links
-                .iter()
-                .filter_map(|l| {
-                    let k = of_seed[l.from as usize]?;
-                    Some((seed_steps[k], of_seed[l.to as usize].map(|c| seed_steps[c])))
-                })
-                .collect();
-            let mut removed_any = false;
-            loop {
-                // A link supports its producer and the abstract steps above
-                // it that do not hold its consumer too.
-                let mut supports = vec![false; self.old.len()];
-                for &(producer, consumer) in &links {
-                    if self.why[producer].is_some() || consumer.is_some_and(|c| self.why[c].is_some()) {
-                        continue;
+        // takes the support of its own conditions away, on the same links
+        // (a step that supports nothing is no producer of a step that stays,
+        // so the links of those that stay do not change).
+        let Some((plan, of_seed, seed_steps)) = start.or_else(|| self.start_plan()) else { return };
+        let links: Vec<(usize, Option<usize>)> = plan
+            .links
+            .iter()
+            .filter_map(|l| {
+                let k = of_seed[l.from as usize]?;
+                Some((seed_steps[k], of_seed[l.to as usize].map(|c| seed_steps[c])))
+            })
+            .collect();
+        loop {
+            // A link supports its producer and the abstract steps above it
+            // that do not hold its consumer too.
+            let mut supports = vec![false; self.old.len()];
+            for &(producer, consumer) in &links {
+                if self.why[producer].is_some() || consumer.is_some_and(|c| self.why[c].is_some()) {
+                    continue;
+                }
+                let mut a = Some(producer);
+                while let Some(i) = a {
+                    if consumer.is_some_and(|c| self.holds(i, c)) {
+                        break;
                     }
-                    let mut a = Some(producer);
-                    while let Some(i) = a {
-                        if consumer.is_some_and(|c| self.holds(i, c)) {
-                            break;
-                        }
-                        supports[i] = true;
-                        a = self.old[i].parent;
-                    }
+                    supports[i] = true;
+                    a = self.old[i].parent;
                 }
-                let idle: Vec<usize> = self
-                    .kept()
-                    .filter(|&i| !supports[i] && self.old[i].parent.is_none() && !self.old[i].frozen)
-                    .collect();
-                if idle.is_empty() {
-                    break;
-                }
-                for i in idle {
-                    self.remove_with_hierarchy(i, Why::SupportsNothing);
-                }
-                removed_any = true;
             }
-            if !removed_any {
+            let idle: Vec<usize> = self
+                .kept()
+                .filter(|&i| !supports[i] && self.old[i].parent.is_none() && !self.old[i].frozen)
+                .collect();
+            if idle.is_empty() {
                 break;
+            }
+            for i in idle {
+                self.remove_with_hierarchy(i, Why::SupportsNothing);
             }
         }
     }
