@@ -38,7 +38,7 @@ pub type Tp = u32;
 pub const ORIGIN: Tp = 0;
 
 /// A slack and its point, ordered by slack (a total order on floats), for
-/// the heap of [`Stn::slacks_below`].
+/// the heap of [`Stn::slack_to`].
 #[derive(Clone, Copy, PartialEq)]
 struct Key(f64, Tp);
 
@@ -66,9 +66,6 @@ pub struct Edge {
 pub struct Stn {
     est: PVec<f64>,
     out: PVec<Rc<Vec<Edge>>>,
-    /// The same edges by head: `inn[b]` holds `Edge { to: a, w }` for each
-    /// edge `a → b` (the backward search of [`Stn::slacks_below`]).
-    inn: PVec<Rc<Vec<Edge>>>,
     pred: PVec<Rc<Vec<u64>>>,
 }
 
@@ -81,7 +78,7 @@ impl Default for Stn {
 impl Stn {
     /// A network with the origin only.
     pub fn new() -> Stn {
-        let mut s = Stn { est: PVec::new(), out: PVec::new(), inn: PVec::new(), pred: PVec::new() };
+        let mut s = Stn { est: PVec::new(), out: PVec::new(), pred: PVec::new() };
         s.add_point();
         s
     }
@@ -99,7 +96,6 @@ impl Stn {
         let t = self.est.len() as Tp;
         self.est.push(0.0);
         self.out.push(Rc::new(Vec::new()));
-        self.inn.push(Rc::new(Vec::new()));
         self.pred.push(Rc::new(Vec::new()));
         t
     }
@@ -136,23 +132,10 @@ impl Stn {
         }
         {
             let out = Rc::make_mut(self.out.get_mut(a as usize).expect("in bounds"));
-            let stronger = match out.iter_mut().find(|e| e.to == b) {
-                Some(e) if e.w >= w => false,
-                Some(e) => {
-                    e.w = w;
-                    true
-                }
-                None => {
-                    out.push(Edge { to: b, w });
-                    true
-                }
-            };
-            if stronger {
-                let inn = Rc::make_mut(self.inn.get_mut(b as usize).expect("in bounds"));
-                match inn.iter_mut().find(|e| e.to == a) {
-                    Some(e) => e.w = w,
-                    None => inn.push(Edge { to: a, w }),
-                }
+            match out.iter_mut().find(|e| e.to == b) {
+                Some(e) if e.w >= w => {}
+                Some(e) => e.w = w,
+                None => out.push(Edge { to: b, w }),
             }
         }
         if w >= 0.0 {
@@ -235,63 +218,50 @@ impl Stn {
         true
     }
 
-    /// The slacks of points before `target`: how much later than its
-    /// earliest time each point of `wanted` can be without delaying
-    /// `target`, each known only below its bound (`INFINITY` at or above
-    /// it, as for points that do not precede `target`). Adding
-    /// `t_b ≥ t_a + w` then delays `target` by at least
+    /// The slack of `from` towards `target`: how much later than its
+    /// earliest time `from` can be without delaying `target`; `INFINITY`
+    /// when it is `bound` or more, or `from` does not precede `target`.
+    /// Adding `t_b ≥ t_a + w` delays `target` by at least
     /// `est(a) + w − est(b) − slack(b)` (exactly, when only lower bounds lie
-    /// between `b` and `target`).
-    pub fn slacks_below(&self, target: Tp, wanted: &[(Tp, f64)]) -> Vec<f64> {
-        // With the earliest times as potentials, the slack of an edge
-        // `a → b`, `est(b) − est(a) − w`, is never negative (up to rounding),
-        // so the least total slack from each point to `target` is a
-        // Dijkstra search backwards from it, each point settled once, which
-        // stops once the wanted points are settled or their bounds passed.
-        // Maps, not vectors: a call costs the points it reaches.
+    /// between `b` and `target`). With the earliest times as potentials,
+    /// the slack of an edge `x → y`, `est(y) − est(x) − w`, is never
+    /// negative (up to rounding), and `slack(from)` is the least total
+    /// slack of a path to `target`: a Dijkstra search forwards, which
+    /// reaches only the points after `from` whose detour is below the
+    /// bound (few, for a point late in the plan, where new steps go).
+    pub fn slack_to(&self, from: Tp, target: Tp, bound: f64) -> f64 {
         let n = self.len();
-        let mut slack: rustc_hash::FxHashMap<Tp, f64> = rustc_hash::FxHashMap::default();
-        let mut done: rustc_hash::FxHashSet<Tp> = rustc_hash::FxHashSet::default();
-        // The wanted points by bound, the greatest last.
-        let mut open: Vec<(f64, Tp)> =
-            wanted.iter().filter(|&&(t, b)| b > 0.0 && (t as usize) < n).map(|&(t, b)| (b, t)).collect();
-        open.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut heap = std::collections::BinaryHeap::new();
-        if (target as usize) < n {
-            slack.insert(target, 0.0);
-            heap.push(Reverse(Key(0.0, target)));
+        if from as usize >= n || target as usize >= n || bound <= 0.0 {
+            return f64::INFINITY;
         }
-        while let Some(Reverse(Key(sb, b))) = heap.pop() {
-            while open.last().is_some_and(|&(_, t)| done.contains(&t)) {
-                open.pop();
+        let mut dist: rustc_hash::FxHashMap<Tp, f64> = rustc_hash::FxHashMap::default();
+        let mut done: rustc_hash::FxHashSet<Tp> = rustc_hash::FxHashSet::default();
+        dist.insert(from, 0.0);
+        let mut heap = std::collections::BinaryHeap::from([Reverse(Key(0.0, from))]);
+        while let Some(Reverse(Key(d, x))) = heap.pop() {
+            if d >= bound {
+                return f64::INFINITY;
             }
-            let Some(&(max_bound, _)) = open.last() else { break };
-            if sb >= max_bound {
-                break;
+            if x == target {
+                return d;
             }
-            if !done.insert(b) {
+            if !done.insert(x) {
                 continue;
             }
-            let eb = self.est(b);
-            for e in self.inn[b as usize].iter() {
+            let ex = self.est(x);
+            for e in self.edges(x) {
                 if done.contains(&e.to) {
                     continue;
                 }
-                let s = sb + (eb - self.est(e.to) - e.w).max(0.0);
-                let cur = slack.entry(e.to).or_insert(f64::INFINITY);
-                if s < *cur {
-                    *cur = s;
-                    heap.push(Reverse(Key(s, e.to)));
+                let nd = d + (self.est(e.to) - ex - e.w).max(0.0);
+                let cur = dist.entry(e.to).or_insert(f64::INFINITY);
+                if nd < *cur {
+                    *cur = nd;
+                    heap.push(Reverse(Key(nd, e.to)));
                 }
             }
         }
-        wanted
-            .iter()
-            .map(|&(t, b)| match slack.get(&t) {
-                Some(&s) if s < b && done.contains(&t) => s,
-                _ => f64::INFINITY,
-            })
-            .collect()
+        f64::INFINITY
     }
 
     /// Adds `a < b` to the closure: every point at or after `b` gets `a`
@@ -394,26 +364,26 @@ mod tests {
         assert_eq!(s.est(b), 11.5);
         // b must stay at 11.5 for itself: a may not slip; a point after a
         // by 1 with nothing after it may slip to the horizon.
-        let slack = |s: &Stn, t: Tp, target: Tp| s.slacks_below(target, &[(t, f64::INFINITY)])[0];
+        let slack = |s: &Stn, t: Tp, target: Tp| s.slack_to(t, target, f64::INFINITY);
         assert_eq!(slack(&s, a, b), 0.0);
         assert_eq!(slack(&s, b, b), 0.0);
         let c = s.add_point();
         assert!(s.add(a, c, 1.0));
         assert_eq!(slack(&s, c, b), f64::INFINITY);
-        // Below a bound only: a point with slack 3 is unknown below 3.
         let d = s.add_point();
         assert!(s.add(d, b, 4.0));
         assert!(s.add(ORIGIN, d, 1.0));
         assert_eq!(s.est(d), 1.0);
         assert_eq!(slack(&s, d, b), 6.5);
-        assert_eq!(s.slacks_below(b, &[(d, 6.5)])[0], f64::INFINITY);
-        assert_eq!(s.slacks_below(b, &[(d, 7.0)])[0], 6.5);
+        // Below a bound only.
+        assert_eq!(s.slack_to(d, b, 6.5), f64::INFINITY);
+        assert_eq!(s.slack_to(d, b, 7.0), 6.5);
         let lst = s.latest(20.0);
         assert_eq!(lst[b as usize], 12.0);
         assert_eq!(lst[a as usize], 2.0);
     }
 
-    /// `slacks_below` against the definition, by rounds of relaxation over
+    /// `slack_to` against the definition, by rounds of relaxation over
     /// every edge, on random consistent networks (orderings, durations both
     /// ways, release dates and deadlines).
     #[test]
@@ -462,9 +432,7 @@ mod tests {
                     }
                 }
             }
-            // Every point's slack, then some below a bound.
-            let all: Vec<(Tp, f64)> = (0..s.len() as Tp).map(|t| (t, f64::INFINITY)).collect();
-            let got = s.slacks_below(sink, &all);
+            let got: Vec<f64> = (0..s.len() as Tp).map(|t| s.slack_to(t, sink, f64::INFINITY)).collect();
             for (t, w) in want.iter().enumerate() {
                 let slack = w - s.est(t as Tp);
                 assert!(
@@ -473,21 +441,16 @@ mod tests {
                     got[t]
                 );
             }
-            let mut some: Vec<(Tp, f64)> = Vec::new();
+            // Forwards, below a bound.
             for t in 0..s.len() as Tp {
-                if next(3) == 0 {
-                    some.push((t, next(40) as f64 - 5.0));
-                }
-            }
-            let part = s.slacks_below(sink, &some);
-            for (k, &(t, bound)) in some.iter().enumerate() {
-                let slack = want[t as usize] - s.est(t);
+                let bound = if next(4) == 0 { f64::INFINITY } else { next(40) as f64 };
+                let fwd = s.slack_to(t, sink, bound);
+                let slack = got[t as usize];
+                let near = (slack - bound).abs() < 1e-6;
                 let expected = if slack < bound { slack } else { f64::INFINITY };
-                let at_bound = (slack - bound).abs() < 1e-6;
                 assert!(
-                    at_bound || part[k] == expected || (part[k] - expected).abs() < 1e-6,
-                    "slack of {t} below {bound} (target {sink}): {} but {expected}",
-                    part[k]
+                    near || fwd == expected || (fwd - expected).abs() < 1e-6,
+                    "slack_to({t}, {sink}, {bound}) = {fwd} but {expected}"
                 );
             }
         }

@@ -96,27 +96,35 @@ impl Search<'_, '_> {
             return Some(0.0);
         }
         // Ordering `a` before `b` delays the goal by `d − slack(b)`, with
-        // `d = est(a) + ε − est(b)`: only a slack below `d` delays it, and
-        // only a threat whose two orderings both may delay it adds to the
-        // penalty.
-        let mut wanted: Vec<(Tp, f64)> = Vec::new();
+        // `d = est(a) + ε − est(b)`: a threat adds the lesser of its two
+        // orderings' delays, and the penalty is the greatest. A threat with
+        // an ordering that delays nothing (`d ≤ 0`) adds nothing, and a
+        // slack is only needed below `d` less the penalty found so far:
+        // the threats that may add most come first.
+        let mut threats: Vec<([f64; 2], [Tp; 2])> = Vec::new();
         for t in p.threats.iter() {
             let [(a1, b1), (a2, b2)] = self.threat_orders(p, t);
             let d1 = p.stn.est(a1) + EPS - p.stn.est(b1);
             let d2 = p.stn.est(a2) + EPS - p.stn.est(b2);
             if d1 > 0.0 && d2 > 0.0 {
-                wanted.extend([(b1, d1), (b2, d2)]);
+                threats.push(([d1, d2], [b1, b2]));
             }
         }
-        if wanted.is_empty() {
-            return Some(0.0);
-        }
-        let slack = p.stn.slacks_below(p.goal_tp, &wanted);
+        threats.sort_by(|x, y| y.0[0].min(y.0[1]).total_cmp(&x.0[0].min(x.0[1])));
         let mut penalty: f64 = 0.0;
-        for (k, pair) in wanted.chunks(2).enumerate() {
-            let d1 = pair[0].1 - slack[2 * k];
-            let d2 = pair[1].1 - slack[2 * k + 1];
-            penalty = penalty.max(d1.min(d2));
+        for (d, b) in threats {
+            if d[0].min(d[1]) <= penalty {
+                break;
+            }
+            // The cheaper ordering first: the other is only needed if it
+            // could delay more than the penalty.
+            let (i, j) = if d[0] <= d[1] { (0, 1) } else { (1, 0) };
+            let vi = d[i] - p.stn.slack_to(b[i], p.goal_tp, d[i] - penalty);
+            if vi <= penalty {
+                continue;
+            }
+            let vj = d[j] - p.stn.slack_to(b[j], p.goal_tp, d[j] - penalty);
+            penalty = penalty.max(vi.min(vj));
         }
         Some(penalty.max(0.0))
     }
