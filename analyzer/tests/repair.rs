@@ -180,10 +180,11 @@ fn a_new_survivor_is_rescued_after_the_old_work_which_keeps_its_times() {
     assert!(errors.is_empty(), "{errors:?}");
 }
 
-/// A robot that starts elsewhere (startingPos): its itinerary breaks at its
-/// first visit and is planned again from where it is, in the old order; the
-/// other team's itineraries are replayed whole, their actions at their old
-/// times.
+/// A robot that starts elsewhere (startingPos): its old moves up to its
+/// first visit leave from where it is not, and are rerouted: the replay of
+/// its itinerary goes from where it is to its first old visit by the
+/// shortest route, then on through its old visits; the other team's
+/// itineraries are replayed whole, their actions at their old times.
 #[test]
 fn a_robot_that_starts_elsewhere_leaves_the_other_team_as_it_was() {
     let (domain, problem, new) = survivors("startingPos");
@@ -217,6 +218,14 @@ fn a_robot_that_starts_elsewhere_leaves_the_other_team_as_it_was() {
         plan.primitive().any(|s| s.name == "move" && s.args[0] == "r4" && s.args[1] == "l1_3"),
         "r4 leaves l1_3"
     );
+    // r4's old moves up to its first visit leave from where it no longer
+    // is: they are rerouted, and nothing else is removed.
+    assert!(!result.removed.is_empty());
+    for r in &result.removed {
+        let call = &result.old[r.step].call;
+        assert_eq!(r.why, Why::Rerouted, "{call}");
+        assert!(call.starts_with("(move r4 "), "{call}");
+    }
     assert!(errors.is_empty(), "{errors:?}");
 }
 

@@ -106,6 +106,10 @@ pub enum Why {
     /// A condition that only the initial state and the timed literals give
     /// no longer holds from now on (a robot out of service, a window closed).
     ConditionGone,
+    /// A move of the old plan from where its robot no longer is (it starts
+    /// elsewhere, or the moves before it were removed): its route is
+    /// planned again from where the robot is.
+    Rerouted,
     /// The full replan removed every step.
     Replan,
 }
@@ -124,6 +128,10 @@ impl Why {
             Why::Deadline(t) => format!("it comes before the deadline at {t}, which the plan misses"),
             Why::ConditionGone => {
                 "obsolete: a condition that only the initial state and timed literals give never holds again"
+                    .into()
+            }
+            Why::Rerouted => {
+                "its robot is no longer where it starts from: the route is planned again from where it is"
                     .into()
             }
             Why::Replan => "the full replan starts from nothing".into(),
@@ -659,6 +667,55 @@ impl<'p, 'db> Repair<'p, 'db> {
             for i in idle {
                 self.remove_with_hierarchy(i, Why::SupportsNothing);
             }
+        }
+        self.reroute();
+    }
+
+    /// Under geometric reasoning, the old moves that leave from where their
+    /// robot no longer is are removed: each robot's position is followed
+    /// through the old steps still in, in the old schedule's order, from
+    /// where the new problem puts it, and a top-level move that does not
+    /// start there goes (a robot that starts elsewhere, a detour removed).
+    /// The search's replay of the itinerary then brings the robot to its
+    /// next old visit by the shortest route, instead of back to where the
+    /// removed moves went.
+    fn reroute(&mut self) {
+        if self.config.motion == Motion::Off {
+            return;
+        }
+        let task = &self.prepared.task;
+        let mut order: Vec<usize> = self.kept().filter(|&i| self.old[i].op.is_ok()).collect();
+        order.sort_by(|&a, &b| self.old[a].start.total_cmp(&self.old[b].start).then(a.cmp(&b)));
+        let mut pos: Vec<Option<u32>> = task
+            .motion
+            .iter()
+            .map(|m| {
+                m.as_ref()
+                    .and_then(|m| m.positions.iter().position(|&a| task.init[a as usize]).map(|p| p as u32))
+            })
+            .collect();
+        let mut stranded = Vec::new();
+        for i in order {
+            let Ok(op) = self.old[i].op else { continue };
+            if let Some(&(group, from, to)) = task.moves.get(&op) {
+                let g = group as usize;
+                if pos[g] == Some(from) || self.old[i].frozen || self.old[i].parent.is_some() {
+                    pos[g] = Some(to);
+                } else if self.itinerary_move(i) {
+                    stranded.push(i);
+                }
+                continue;
+            }
+            for e in &task.ops[op as usize].effs {
+                if let Some((_, g, p)) = task.motion_of(crate::planner::task::atom_of(e.lit))
+                    && !crate::planner::task::is_neg(e.lit)
+                {
+                    pos[g as usize] = Some(p);
+                }
+            }
+        }
+        for i in stranded {
+            self.remove(i, Why::Rerouted, Stage::Obsolete);
         }
     }
 

@@ -315,12 +315,18 @@ impl Search<'_, '_> {
                     .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
                 let Some((_, i)) = first else { continue };
                 let o = p.open[i];
+                // Elsewhere: the plan's itinerary goes there by the
+                // shortest route (a move of the old plan left from where the
+                // member no longer is, and the repair removed it), an
+                // abstract step's cannot (its methods say how it moves).
                 let here = Geo::position(self.task, o.lit).is_some_and(|(_, pos)| pos == t.pos);
+                let move_from_elsewhere =
+                    !here && p.op_of(o.step).is_some_and(|op| self.task.moves.contains_key(&op));
                 let preceded = b.visits.iter().any(|&j| {
                     let q = p.open[j];
                     q.step != o.step && q.need != o.need && p.stn.before(q.need, o.need)
                 });
-                if !here || preceded {
+                if (!here && (b.scope != itinerary::NONE || move_from_elsewhere)) || preceded {
                     broken.push((b.group, b.scope));
                     continue;
                 }
