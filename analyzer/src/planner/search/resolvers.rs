@@ -9,7 +9,7 @@
 use super::super::itinerary::Geo;
 use super::super::plan::{GOAL, INIT, Kind, Open, OpenOrigin, Plan, Threat, ThreatKind};
 use super::super::stn::{EPS, ORIGIN, Tp};
-use super::super::task::{atom_of, is_neg};
+use super::super::task::{Lit, Task, atom_of, is_neg};
 use super::{Flaw, Search};
 
 impl Search<'_, '_> {
@@ -89,20 +89,50 @@ impl Search<'_, '_> {
     /// Producers of a literal that could come before `need` and that are
     /// the last of their family before it (4.3.1): `(step, time point)`.
     pub(super) fn producers(&self, p: &Plan, o: &Open, out: &mut Vec<(u32, Tp)>) {
+        self.producers_among(p, o, &mut self.every_effect(p), &mut self.every_effect(p), out);
+    }
+
+    /// Every effect of a plan's steps, as `(step, literal, time point)`.
+    fn every_effect<'a>(&'a self, p: &'a Plan) -> impl Iterator<Item = (u32, Lit, Tp)> + 'a {
+        (0..p.steps.len() as u32).flat_map(move |s| p.effects(self.task, s).map(move |(l, tp)| (s, l, tp)))
+    }
+
+    /// [`Search::producers`] from an index of the plan's effects, built once
+    /// for a plan whose steps do not change while it is linked (a start
+    /// plan): the effects of the literal, and the position changes of its
+    /// family, instead of every step's effects for each open link.
+    pub(super) fn producers_indexed(&self, p: &Plan, o: &Open, index: &Effects, out: &mut Vec<(u32, Tp)>) {
+        let group =
+            if is_neg(o.lit) { None } else { self.task.family[atom_of(o.lit) as usize].map(|(g, _)| g) };
+        let of_lit = index.by_lit.get(&o.lit).map_or(&[][..], Vec::as_slice);
+        let of_group = group.and_then(|g| index.by_group.get(&g)).map_or(&[][..], Vec::as_slice);
+        self.producers_among(p, o, &mut of_lit.iter().copied(), &mut of_group.iter().copied(), out);
+    }
+
+    /// The producers of open link `o` among `effects`, without those that a
+    /// position change among `changes` of the same member necessarily
+    /// follows before the need; effects as `(step, literal, time point)`,
+    /// in the plan's order.
+    fn producers_among(
+        &self,
+        p: &Plan,
+        o: &Open,
+        effects: &mut dyn Iterator<Item = (u32, Lit, Tp)>,
+        changes: &mut dyn Iterator<Item = (u32, Lit, Tp)>,
+        out: &mut Vec<(u32, Tp)>,
+    ) {
         out.clear();
         if self.task.holds_initially(o.lit) && o.step != INIT {
             out.push((INIT, ORIGIN));
         }
-        for s in 0..p.steps.len() as u32 {
-            for (l, tp) in p.effects(self.task, s) {
-                let own_start = s == o.step && o.after_start && tp == o.need;
-                if l == o.lit
-                    && (tp != o.need || own_start)
-                    && (own_start || !p.stn.before(o.need, tp))
-                    && !(s == o.step && tp == o.until)
-                {
-                    out.push((s, tp));
-                }
+        for (s, l, tp) in effects {
+            let own_start = s == o.step && o.after_start && tp == o.need;
+            if l == o.lit
+                && (tp != o.need || own_start)
+                && (own_start || !p.stn.before(o.need, tp))
+                && !(s == o.step && tp == o.until)
+            {
+                out.push((s, tp));
             }
         }
         // The last known position: drop producers that another position
@@ -111,18 +141,15 @@ impl Search<'_, '_> {
             && let Some((group, _)) = self.task.family[atom_of(o.lit) as usize]
             && !out.is_empty()
         {
-            let mut changes: Vec<Tp> = Vec::new();
-            for s in 0..p.steps.len() as u32 {
-                for (l, tp) in p.effects(self.task, s) {
-                    if !is_neg(l)
+            let changes: Vec<Tp> = changes
+                .filter(|&(_, l, tp)| {
+                    !is_neg(l)
                         && l != o.lit
                         && self.task.family[atom_of(l) as usize].is_some_and(|(g, _)| g == group)
                         && p.stn.before(tp, o.need)
-                    {
-                        changes.push(tp);
-                    }
-                }
-            }
+                })
+                .map(|(_, _, tp)| tp)
+                .collect();
             out.retain(|&(_, e)| !changes.iter().any(|&c| (e == ORIGIN || p.stn.before(e, c)) && c != e));
         }
     }
@@ -404,5 +431,30 @@ impl Search<'_, '_> {
             }
         }
         true
+    }
+}
+
+/// The effects of a plan's steps by literal, and its position changes by
+/// family group, each as `(step, literal, time point)` in the plan's order:
+/// [`Search::producers_indexed`].
+pub(super) struct Effects {
+    by_lit: rustc_hash::FxHashMap<Lit, Vec<(u32, Lit, Tp)>>,
+    by_group: rustc_hash::FxHashMap<u32, Vec<(u32, Lit, Tp)>>,
+}
+
+impl Effects {
+    pub(super) fn new(task: &Task<'_>, p: &Plan) -> Effects {
+        let mut out = Effects { by_lit: Default::default(), by_group: Default::default() };
+        for s in 0..p.steps.len() as u32 {
+            for (l, tp) in p.effects(task, s) {
+                out.by_lit.entry(l).or_default().push((s, l, tp));
+                if !is_neg(l)
+                    && let Some((g, _)) = task.family[atom_of(l) as usize]
+                {
+                    out.by_group.entry(g).or_default().push((s, l, tp));
+                }
+            }
+        }
+        out
     }
 }

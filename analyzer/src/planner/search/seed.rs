@@ -219,6 +219,8 @@ impl Search<'_, '_> {
     fn link_as_before(&self, p: &mut Plan, times: &OldTimes) {
         let undone = Undone::new(self.task, p, times);
         let first_link = p.links.len() as u32;
+        // Linking adds links and orderings, never steps: one index serves.
+        let effects = super::resolvers::Effects::new(self.task, p);
         let mut i = 0;
         let mut producers = Vec::new();
         while i < p.open.len() {
@@ -231,7 +233,7 @@ impl Search<'_, '_> {
                 i += 1;
                 continue;
             };
-            self.producers(p, &o, &mut producers);
+            self.producers_indexed(p, &o, &effects, &mut producers);
             if o.origin == OpenOrigin::AbstractEffect {
                 producers.retain(|&(s, _)| s != o.step && p.descends(s, o.step));
             }
