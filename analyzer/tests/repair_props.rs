@@ -105,20 +105,6 @@ fn effect_atoms(p: &Problem) -> Vec<(usize, Vec<usize>)> {
     out
 }
 
-/// A ground atom of a predicate, its objects chosen by `args`.
-fn atom(p: &Problem, pick: u16, args: [u8; 2]) -> (usize, Vec<usize>) {
-    let pred = pick as usize % p.preds.len();
-    let objs = p.preds[pred]
-        .iter()
-        .enumerate()
-        .map(|(k, &t)| {
-            let fits: Vec<usize> = (0..p.objects.len()).filter(|&o| p.subtype(p.objects[o], t)).collect();
-            fits[args[k] as usize % fits.len()]
-        })
-        .collect();
-    (pred, objs)
-}
-
 /// The new problem's text after the event, and the event. An object or
 /// an action removed is one the old plan uses (`used`: the names of its
 /// steps and their arguments), when it has one.
@@ -140,8 +126,11 @@ fn apply(p: &Problem, e: &RawEvent, used: &[String]) -> (String, Event) {
     let event = match kind {
         0 => {
             let atoms = effect_atoms(p);
-            let (pred, objs) =
-                if atoms.is_empty() { atom(p, e.pick, e.args) } else { atoms[pick % atoms.len()].clone() };
+            let (pred, objs) = if atoms.is_empty() {
+                p.atom(e.pick as usize, &e.args)
+            } else {
+                atoms[pick % atoms.len()].clone()
+            };
             q.goal.push((false, pred, objs));
             Event::GoalAdded
         }
@@ -153,7 +142,7 @@ fn apply(p: &Problem, e: &RawEvent, used: &[String]) -> (String, Event) {
             let fact = if kind == 2 && !p.init.is_empty() {
                 p.init[pick % p.init.len()].clone()
             } else {
-                atom(p, e.pick, e.args)
+                p.atom(e.pick as usize, &e.args)
             };
             match q.init.iter().position(|f| *f == fact) {
                 Some(i) => {

@@ -55,6 +55,22 @@ impl std::fmt::Debug for Problem {
 }
 
 impl Problem {
+    /// A ground atom: predicate `pick` (modulo their number), each argument
+    /// the object of its type chosen by `args`.
+    pub fn atom(&self, pick: usize, args: &[u8; 2]) -> (usize, Vec<usize>) {
+        let pred = pick % self.preds.len();
+        let objs = self.preds[pred]
+            .iter()
+            .enumerate()
+            .map(|(k, &t)| {
+                let fits: Vec<usize> =
+                    (0..self.objects.len()).filter(|&o| self.subtype(self.objects[o], t)).collect();
+                fits[args[k] as usize % fits.len()]
+            })
+            .collect();
+        (pred, objs)
+    }
+
     pub(crate) fn subtype(&self, mut t: usize, of: usize) -> bool {
         loop {
             if t == of {
@@ -295,18 +311,7 @@ pub(crate) fn build(raw: &RawProblem) -> Problem {
         let effs = ra.effs.iter().filter_map(|l| resolve(l, true)).collect();
         p.actions.push(Action { durative, params, duration: ra.duration, conds, effs });
     }
-    let ground = |p: &Problem, pred: u8, args: &[u8; 2]| {
-        let pred = pred as usize % p.preds.len();
-        let objs = p.preds[pred]
-            .iter()
-            .enumerate()
-            .map(|(k, &t)| {
-                let fits: Vec<usize> = (0..p.objects.len()).filter(|&o| p.subtype(p.objects[o], t)).collect();
-                fits[args[k] as usize % fits.len()]
-            })
-            .collect();
-        (pred, objs)
-    };
+    let ground = |p: &Problem, pred: u8, args: &[u8; 2]| p.atom(pred as usize, args);
     p.init = raw.init.iter().map(|(pr, args)| ground(&p, *pr, args)).collect();
     p.goal =
         raw.goal
