@@ -23,12 +23,11 @@
 //! 200, about two seconds), `HIPOP_REPAIR_PROPS_SEED` the seed (a number).
 
 use std::cell::RefCell;
-use std::fmt::Write as _;
 use std::time::Duration;
 
 use hipop_analyzer::planner::{Config, PlannerLimits, Status};
 use hipop_analyzer::repair::{Execution, RepairOptions, Stage, Why};
-use hipop_analyzer::{AnalysisHost, Severity, SourceFile};
+use hipop_analyzer::{AnalysisHost, Severity};
 use proptest::prelude::*;
 use proptest::test_runner::{Config as RunnerConfig, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 
@@ -208,34 +207,6 @@ struct Counts {
     refused: usize,
 }
 
-fn show(diagnostics: &[hipop_analyzer::Diagnostic]) -> String {
-    let mut out = String::new();
-    for d in diagnostics {
-        let _ = writeln!(out, "  {} {}", d.code.id, d.message);
-    }
-    out
-}
-
-/// `Err` with the validator's diagnostics when `plan` does not solve `problem`.
-fn validate(host: &mut AnalysisHost, problem: SourceFile, name: &str, plan: &str) -> Result<(), String> {
-    let f = host.set_file_text(name, plan.to_string());
-    for tolerance in [0.01, 0.0001] {
-        let options = hipop_analyzer::validate::Options { tolerance, ..Default::default() };
-        let v = host
-            .analysis()
-            .validate_plan(f, None, problem, &options)
-            .expect("not cancelled")
-            .expect("a problem");
-        if !(v.valid && v.checked) {
-            return Err(format!(
-                "the validator rejects {name} at tolerance {tolerance}:\n{}{plan}",
-                show(&v.diagnostics)
-            ));
-        }
-    }
-    Ok(())
-}
-
 fn check(p: &Problem, e: &RawEvent, counts: &mut Counts) -> Result<(), String> {
     let k = e.config as usize % (2 * Config::MAIN.len());
     let config = Config::parse(if k < Config::MAIN.len() {
@@ -270,7 +241,7 @@ fn check(p: &Problem, e: &RawEvent, counts: &mut Counts) -> Result<(), String> {
         .filter(|d| d.severity == Severity::Error)
         .collect();
     if !errors.is_empty() {
-        return Err(format!("the new problem ({event:?}) has errors:\n{}{text}", show(&errors)));
+        return Err(format!("the new problem ({event:?}) has errors:\n{}{text}", show(&host, &errors)));
     }
     let old_text = if e.old_as_json { old.to_json() } else { old.to_val("") };
     let old_plan = host.set_file_text("old.plan", old_text.clone());
@@ -386,7 +357,7 @@ fn check(p: &Problem, e: &RawEvent, counts: &mut Counts) -> Result<(), String> {
             "the planner finds a plan, the repair ends with {:?} (stages {:?}):\n{}{}",
             result.status,
             result.stages.iter().map(|s| (s.stage, s.status.clone())).collect::<Vec<_>>(),
-            show(&result.diagnostics),
+            show(&host, &result.diagnostics),
             context()
         )),
         Status::Limit(_) => {

@@ -1,7 +1,8 @@
 //! Random small temporal problems: the types, the generator (raw choices,
 //! shrinking towards 0 and shorter lists, then resolved against the types)
-//! and their PDDL text. Shared by the property tests of the planner
-//! (`planner_props`) and of the repair (`repair_props`).
+//! and their PDDL text, and the validation of a plan found for one. Shared
+//! by the property tests of the planner (`planner_props`) and of the repair
+//! (`repair_props`).
 
 use std::fmt::Write as _;
 
@@ -351,4 +352,47 @@ pub(crate) fn build(raw: &RawProblem) -> Problem {
 
 pub(crate) fn problem() -> impl Strategy<Value = Problem> {
     raw_problem().prop_map(|r| build(&r))
+}
+
+/// The diagnostics, a line each, with the text they point at.
+pub(crate) fn show(
+    host: &hipop_analyzer::AnalysisHost,
+    diagnostics: &[hipop_analyzer::Diagnostic],
+) -> String {
+    let mut out = String::new();
+    for d in diagnostics {
+        let text = host.analysis().file_text(d.file).unwrap_or_default();
+        let at =
+            text.get(usize::from(d.range.start())..usize::from(d.range.end()).min(text.len())).unwrap_or("");
+        let _ = writeln!(out, "  {} {}: {} [at `{}`]", d.code.id, d.code.name, d.message, at);
+    }
+    out
+}
+
+/// Validates a plan text against the problem: `Err` with the validator's
+/// diagnostics when it is not valid. At VAL's default tolerance and at
+/// 0.0001: a written plan is valid at every tolerance between
+/// (docs/planner.md).
+pub(crate) fn validate(
+    host: &mut hipop_analyzer::AnalysisHost,
+    problem: hipop_analyzer::SourceFile,
+    name: &str,
+    plan: &str,
+) -> Result<(), String> {
+    let f = host.set_file_text(name, plan.to_string());
+    for tolerance in [0.01, 0.0001] {
+        let options = hipop_analyzer::validate::Options { tolerance, ..Default::default() };
+        let v = host
+            .analysis()
+            .validate_plan(f, None, problem, &options)
+            .expect("not cancelled")
+            .expect("a problem");
+        if !(v.valid && v.checked) {
+            return Err(format!(
+                "the validator rejects {name} at tolerance {tolerance}:\n{}\n{plan}",
+                show(host, &v.diagnostics)
+            ));
+        }
+    }
+    Ok(())
 }

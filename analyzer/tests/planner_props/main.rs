@@ -20,7 +20,6 @@
 //! `tests/planner/props/`.
 
 use std::cell::RefCell;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -56,39 +55,6 @@ fn plan(host: &AnalysisHost, file: SourceFile, config: &Config, nodes: u64) -> P
         .run_planner(file, config, &limits(nodes), &|| false, &mut |_| {})
         .expect("not cancelled")
         .expect("the file has a problem")
-}
-
-fn show(host: &AnalysisHost, diagnostics: &[Diagnostic]) -> String {
-    let mut out = String::new();
-    for d in diagnostics {
-        let text = host.analysis().file_text(d.file).unwrap();
-        let at = &text[usize::from(d.range.start())..usize::from(d.range.end()).min(text.len())];
-        let _ = writeln!(out, "  {} {}: {} [at `{}`]", d.code.id, d.code.name, d.message, at);
-    }
-    out
-}
-
-/// Validates a plan text against the problem: `Err` with the validator's
-/// diagnostics when it is not valid.
-/// At VAL's default tolerance and at 0.0001: a written plan is valid at
-/// every tolerance between (docs/planner.md).
-fn validate(host: &mut AnalysisHost, problem: SourceFile, name: &str, plan: &str) -> Result<(), String> {
-    let f = host.set_file_text(name, plan.to_string());
-    for tolerance in [0.01, 0.0001] {
-        let options = hipop_analyzer::validate::Options { tolerance, ..Default::default() };
-        let v = host
-            .analysis()
-            .validate_plan(f, None, problem, &options)
-            .expect("not cancelled")
-            .expect("a problem");
-        if !(v.valid && v.checked) {
-            return Err(format!(
-                "the validator rejects {name} at tolerance {tolerance}:\n{}\n{plan}",
-                show(host, &v.diagnostics)
-            ));
-        }
-    }
-    Ok(())
 }
 
 /// Validates a solved plan in VAL's format, as JSON and in the IPC 2020
