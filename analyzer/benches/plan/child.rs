@@ -101,6 +101,22 @@ pub(crate) fn validate_into(
     written
 }
 
+/// The limits of a child's search: the time limit the parent gives (its
+/// text, checked by the parent), and the memory the process holds.
+pub(crate) fn child_limits(limit: &str) -> PlannerLimits {
+    let limit: f64 = limit.parse().expect("the parent checked the limit");
+    PlannerLimits {
+        time: Some(Duration::from_secs_f64(limit)),
+        memory_in_use: Some(hipop_analyzer::alloc::in_use),
+        ..PlannerLimits::default()
+    }
+}
+
+/// A file the parent wrote or found.
+pub(crate) fn read(path: &str) -> String {
+    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {path}: {e}"))
+}
+
 /// `--one DOMAIN PROBLEM CONFIG TIME_LIMIT PLAN_PREFIX`: plans, validates,
 /// writes the plans beside PLAN_PREFIX and prints one JSON line.
 pub(crate) fn one(raw: &[String]) -> ExitCode {
@@ -109,13 +125,7 @@ pub(crate) fn one(raw: &[String]) -> ExitCode {
         return ExitCode::from(2);
     };
     let config = Config::parse(config).expect("the parent checked the configuration");
-    let limit: f64 = limit.parse().expect("the parent checked the limit");
-    let limits = PlannerLimits {
-        time: Some(Duration::from_secs_f64(limit)),
-        memory_in_use: Some(hipop_analyzer::alloc::in_use),
-        ..PlannerLimits::default()
-    };
-    let read = |p: &str| std::fs::read_to_string(p).unwrap_or_else(|e| panic!("cannot read {p}: {e}"));
+    let limits = child_limits(limit);
     let mut host = AnalysisHost::new();
     host.set_file_text(domain, read(domain));
     let pf = host.set_file_text(problem, read(problem));

@@ -4,12 +4,12 @@
 //! line.
 
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use hipop_analyzer::AnalysisHost;
 use hipop_analyzer::plan::NameMatching;
 use hipop_analyzer::plan::diff::{DiffOptions, diff};
-use hipop_analyzer::planner::{Config, PlannerLimits, Status};
+use hipop_analyzer::planner::{Config, Status};
 use hipop_analyzer::repair::{Execution, RepairOptions, Stage};
 use serde_json::json;
 
@@ -41,13 +41,8 @@ pub(crate) fn repair_one(raw: &[String]) -> ExitCode {
     }
     let mode = Mode::parse(mode).expect("the parent checked the mode");
     let config = Config::parse(config).expect("the parent checked the configuration");
-    let limit: f64 = limit.parse().expect("the parent checked the limit");
-    let limits = PlannerLimits {
-        time: Some(Duration::from_secs_f64(limit)),
-        memory_in_use: Some(hipop_analyzer::alloc::in_use),
-        ..PlannerLimits::default()
-    };
-    let read = |p: &str| std::fs::read_to_string(p).unwrap_or_else(|e| panic!("cannot read {p}: {e}"));
+    let limits = crate::child::child_limits(limit);
+    let read = crate::child::read;
     let mut host = AnalysisHost::new();
     let df = host.set_file_text(domain, read(domain));
     let pf = host.set_file_text(problem, read(problem));
