@@ -19,11 +19,16 @@ use std::collections::BinaryHeap;
 
 use rowan::TextRange;
 
+use super::super::temporal::TilChange;
+use super::super::temporal::model::til_change;
 use super::Cx;
 use super::decompose::{precedences, transitive};
 use super::timeline::{EventKind, Timeline};
+use crate::db::{Section, lower_item};
 use crate::diagnostic::codes;
-use crate::model::{ActionKind, CmpOp, Effect, Gd, Method, NumExpr, Str, Term, TimeSpec, Typed};
+use crate::model::{
+    ActionKind, CmpOp, Effect, Gd, InitElement, ItemData, Method, NumExpr, Str, Term, TimeSpec, Typed,
+};
 use crate::semantics::symbols::Loc;
 use crate::validate::eval::{
     Binding, Changes, Eval, EvalError, GroundWorld, Phase, Res, State, World, fmt_num, fmt_operands,
@@ -263,6 +268,26 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
         let f = state.fluent(key);
         state.set_value(f, Some(v));
     }
+    // The timed initial literals of a timed plan, by time: each changes the
+    // states after it, as it does for the plan's own validation (a literal
+    // at the time of an event comes with it, after its conditions).
+    let mut tils: Vec<(f64, TilChange)> = Vec::new();
+    if tl.timed {
+        for &item in cx.problem.items(db) {
+            if let (ItemData::Init(elements), Section::Init) = (&lower_item(db, item).data, item.section(db))
+            {
+                for e in elements {
+                    if let InitElement::Timed(time, inner, _) = e
+                        && let Some(change) = til_change(inner, &cx.objects, &preds, &funcs)
+                    {
+                        tils.push((time.value(), change));
+                    }
+                }
+            }
+        }
+        tils.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    let mut next_til = 0;
     let objects = &cx.objects;
     let world = World { objects, preds: &preds, funcs: &funcs };
     // The sweep: states 0..=n_events, state k before event k.
@@ -279,6 +304,25 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
     let mut unevaluable: Vec<(usize, EvalError)> = Vec::new();
     let mut stopped: Option<(usize, EvalError)> = None;
     for k in 0..=n_events {
+        // The literals timed before event k (none after the last event, as
+        // VAL applies none after the plan's last happening).
+        if let Some(e) = tl.events.get(k) {
+            while let Some((time, change)) = tils.get(next_til)
+                && *time < e.time - tl.eps
+            {
+                match change {
+                    TilChange::Atom(key, value) => {
+                        let a = state.atom(key);
+                        state.set(a, *value);
+                    }
+                    TilChange::Fluent(key, value) => {
+                        let f = state.fluent(key);
+                        state.set_value(f, Some(*value));
+                    }
+                }
+                next_til += 1;
+            }
+        }
         loop {
             let mut progressed = false;
             while let Some(&Reverse((lo, n))) = pending.peek()

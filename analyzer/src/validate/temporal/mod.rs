@@ -17,7 +17,7 @@
 mod checks;
 mod happening;
 mod messages;
-mod model;
+pub(super) mod model;
 mod mutex;
 #[cfg(test)]
 mod tests;
@@ -71,7 +71,7 @@ struct Til<'db> {
     loc: Loc<'db>,
 }
 
-enum TilChange {
+pub(in crate::validate) enum TilChange {
     Atom(Key, bool),
     Fluent(Key, f64),
 }

@@ -138,7 +138,7 @@ pub(super) fn prepare<'db>(db: &'db dyn Db, domain: Unit<'db>, problem: Unit<'db
     Model { domain, objects, preds, funcs, actions, init, atoms, tils, goal, metric }
 }
 
-pub(super) fn til_change(
+pub(in crate::validate) fn til_change(
     e: &InitElement,
     objects: &Objects<'_>,
     preds: &Interner,
