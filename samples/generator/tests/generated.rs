@@ -103,21 +103,7 @@ fn survivors_files_are_deterministic_and_named_by_their_parameters() {
 
 #[test]
 fn survivors_samples_are_up_to_date() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../survivors");
-    let files = survivors(DEFAULT_SEED, false);
-    let mut compared = 0;
-    for entry in std::fs::read_dir(&dir).expect("samples/survivors") {
-        let path = entry.unwrap().path();
-        let name = path.file_name().unwrap().to_string_lossy().to_string();
-        if !name.ends_with(".pddl") {
-            continue;
-        }
-        let (_, text) =
-            files.iter().find(|(n, _)| *n == name).unwrap_or_else(|| panic!("{name} is not generated"));
-        let committed = std::fs::read_to_string(&path).unwrap();
-        assert!(committed == *text, "samples/survivors/{name} is stale: regenerate it (see its README)");
-        compared += 1;
-    }
+    let compared = compare_with_committed("survivors", &survivors(DEFAULT_SEED, false));
     assert!(compared >= 4, "the domain and 3 problems are committed");
 }
 
@@ -189,24 +175,7 @@ fn survivors_repair_files_are_deterministic_and_named_by_their_event() {
 
 #[test]
 fn survivors_repair_samples_are_up_to_date() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../survivors/repair");
-    let files = survivors_repair(DEFAULT_SEED);
-    let mut compared = 0;
-    for entry in std::fs::read_dir(&dir).expect("samples/survivors/repair") {
-        let path = entry.unwrap().path();
-        let name = path.file_name().unwrap().to_string_lossy().to_string();
-        if !name.ends_with(".pddl") {
-            continue;
-        }
-        let (_, text) =
-            files.iter().find(|(n, _)| *n == name).unwrap_or_else(|| panic!("{name} is not generated"));
-        let committed = std::fs::read_to_string(&path).unwrap();
-        assert!(
-            committed == *text,
-            "samples/survivors/repair/{name} is stale: regenerate it (see its README)"
-        );
-        compared += 1;
-    }
+    let compared = compare_with_committed("survivors/repair", &survivors_repair(DEFAULT_SEED));
     assert!(compared >= 5, "the domain and one problem with its 3 events are committed");
 }
 
@@ -326,21 +295,7 @@ fn satellite_abstract_actions_agree_with_their_methods() {
 #[test]
 fn satellite_abstract_sample_is_up_to_date() {
     let Some(files) = satellite_files("satellite-time-simple-automatic") else { return };
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../satellite-abstract");
-    for entry in std::fs::read_dir(&dir).expect("samples/satellite-abstract") {
-        let path = entry.unwrap().path();
-        let name = path.file_name().unwrap().to_string_lossy().to_string();
-        if !name.ends_with(".pddl") {
-            continue;
-        }
-        let (_, text) =
-            files.iter().find(|(n, _)| *n == name).unwrap_or_else(|| panic!("{name} is not generated"));
-        let committed = std::fs::read_to_string(&path).unwrap();
-        assert!(
-            committed == *text,
-            "samples/satellite-abstract/{name} is stale: regenerate it (see its README)"
-        );
-    }
+    compare_with_committed("satellite-abstract", &files);
 }
 
 #[test]
@@ -363,4 +318,24 @@ fn satellite_abstract_reads_the_timed_corpus_too() {
         failures.extend(problems(&host, &diags));
     }
     assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// Compares each `.pddl` file committed in `samples/<folder>` with the
+/// generated file of that name; the number compared.
+fn compare_with_committed(folder: &str, files: &[(String, String)]) -> usize {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(folder);
+    let mut compared = 0;
+    for entry in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("samples/{folder}: {e}")) {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if !name.ends_with(".pddl") {
+            continue;
+        }
+        let (_, text) =
+            files.iter().find(|(n, _)| *n == name).unwrap_or_else(|| panic!("{name} is not generated"));
+        let committed = std::fs::read_to_string(&path).unwrap();
+        assert!(committed == *text, "samples/{folder}/{name} is stale: regenerate it (see its README)");
+        compared += 1;
+    }
+    compared
 }
