@@ -233,6 +233,16 @@ impl Plan {
         !self.stn.before(e, link.from_tp) && !self.stn.before(link.until, s)
     }
 
+    /// [`Task::touches`] of step `k`'s effects (all bits when unknown):
+    /// `k` can threaten a link only if they share a bit with the link's.
+    pub fn touches(&self, task: &Task<'_>, k: u32) -> u64 {
+        match self.steps[k as usize].kind {
+            Kind::Op(o) => task.op_touches.get(o as usize).copied().unwrap_or(u64::MAX),
+            Kind::Til(t) => task.touches(task.tils[t as usize].lit),
+            Kind::Init | Kind::Goal => 0,
+        }
+    }
+
     /// The ways step `k` threatens `link` (Definitions 8, 11 and 13).
     pub fn threat_of(&self, task: &Task<'_>, k: u32, link: &Link, out: &mut Vec<ThreatKind>) {
         let step = self.steps[k as usize];
@@ -285,7 +295,11 @@ impl Plan {
     pub fn threats_of_step(&mut self, task: &Task<'_>, k: u32) {
         let mut found = Vec::new();
         let mut kinds = Vec::new();
+        let touches = self.touches(task, k);
         for (i, link) in self.links.iter().enumerate() {
+            if touches & task.touches(link.lit) == 0 {
+                continue;
+            }
             kinds.clear();
             self.threat_of(task, k, link, &mut kinds);
             found.extend(kinds.iter().map(|&kind| Threat { link: i as u32, step: k, kind }));
@@ -300,7 +314,11 @@ impl Plan {
         let link = self.links[i as usize];
         let mut found = Vec::new();
         let mut kinds = Vec::new();
+        let touches = task.touches(link.lit);
         for k in 0..self.steps.len() as u32 {
+            if self.touches(task, k) & touches == 0 {
+                continue;
+            }
             kinds.clear();
             self.threat_of(task, k, &link, &mut kinds);
             found.extend(kinds.iter().map(|&kind| Threat { link: i, step: k, kind }));

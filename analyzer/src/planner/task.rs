@@ -201,6 +201,11 @@ pub struct Task<'db> {
     pub groups: usize,
     /// Move operators (by op index): their group, from and to positions.
     pub moves: FxHashMap<u32, (u32, u32, u32)>,
+    /// Per operator: the [`Task::touches`] bits of its effects, all bits
+    /// for one with `:conflicts` (it may threaten any link). Empty until
+    /// [`Task::index_effects`]; then a step whose bits share none with a
+    /// link's cannot threaten it.
+    pub op_touches: Vec<u64>,
 }
 
 impl<'db> Task<'db> {
@@ -232,6 +237,35 @@ impl<'db> Task<'db> {
                 }
             }
         }
+    }
+
+    /// A 64-bit summary of what literal `l` is about: a bit for its atom
+    /// and, for a position of a family (positive), a bit for its group. A
+    /// step threatens a link only through an effect on the link's atom
+    /// (Definition 8) or a position of the same group (Definition 13), so
+    /// the bits of the two share one at least.
+    pub fn touches(&self, l: Lit) -> u64 {
+        const MIX: u64 = 0x9E37_79B9_7F4A_7C15;
+        let bit = |x: u64| 1u64 << (x.wrapping_mul(MIX) >> 58);
+        let atom = atom_of(l);
+        let group = if is_neg(l) { None } else { self.family.get(atom as usize).copied().flatten() };
+        bit(2 * u64::from(atom)) | group.map_or(0, |(g, _)| bit(2 * u64::from(g) + 1))
+    }
+
+    /// Computes [`Task::op_touches`]; again after a change of the effects,
+    /// the families or the conflicts.
+    pub fn index_effects(&mut self) {
+        self.op_touches = self
+            .ops
+            .iter()
+            .map(|o| {
+                if o.conflicts.is_empty() {
+                    o.effs.iter().fold(0, |acc, e| acc | self.touches(e.lit))
+                } else {
+                    u64::MAX
+                }
+            })
+            .collect();
     }
 
     /// Whether an atom is a position of a group with move actions.
@@ -778,8 +812,10 @@ pub fn compile<'db>(
         motion: Vec::new(),
         groups: 0,
         moves: FxHashMap::default(),
+        op_touches: Vec::new(),
     };
     super::motion::families(db, problem, &mut task);
+    task.index_effects();
     Ok(task)
 }
 
