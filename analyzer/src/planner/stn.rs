@@ -37,6 +37,146 @@ const NOISE: f64 = 1e-9;
 pub type Tp = u32;
 pub const ORIGIN: Tp = 0;
 
+/// The slacks of many points towards one target ([`Stn::slack_to`]), for
+/// a caller that asks for several: each answer is kept (a slack found, or
+/// a bound it is not below), and the searches share their arrays.
+pub struct Slacks<'a> {
+    stn: &'a Stn,
+    target: Tp,
+    /// Per point asked: the slack, or `INFINITY` with the bound it is at
+    /// least.
+    known: rustc_hash::FxHashMap<Tp, (f64, f64)>,
+    dist: Vec<f64>,
+    /// The search that last set `dist` (and `done`) of each point.
+    seen: Vec<u32>,
+    done: Vec<u32>,
+    search: u32,
+    heap: std::collections::BinaryHeap<Reverse<Key>>,
+    /// Points settled by the searches so far; past twice the network's
+    /// size, [`Slacks::all`] replaces them.
+    settled: usize,
+    /// Every point's slack, from one search backwards from the target.
+    all: Option<Vec<f64>>,
+}
+
+impl<'a> Slacks<'a> {
+    pub fn new(stn: &'a Stn, target: Tp) -> Slacks<'a> {
+        Slacks {
+            stn,
+            target,
+            known: rustc_hash::FxHashMap::default(),
+            dist: Vec::new(),
+            seen: Vec::new(),
+            done: Vec::new(),
+            search: 0,
+            heap: std::collections::BinaryHeap::new(),
+            settled: 0,
+            all: None,
+        }
+    }
+
+    /// [`Stn::slack_to`] of `from` towards the target, below `bound`.
+    pub fn slack(&mut self, from: Tp, bound: f64) -> f64 {
+        let n = self.stn.len();
+        if from as usize >= n || self.target as usize >= n || bound <= 0.0 {
+            return f64::INFINITY;
+        }
+        let below = |slack: f64| if slack < bound { slack } else { f64::INFINITY };
+        if let Some(all) = &self.all {
+            return below(all[from as usize]);
+        }
+        match self.known.get(&from) {
+            Some(&(slack, _)) if slack.is_finite() => return below(slack),
+            Some(&(_, at_least)) if bound <= at_least => return f64::INFINITY,
+            _ => {}
+        }
+        if self.settled > 2 * n {
+            let all = self.backwards();
+            let slack = all[from as usize];
+            self.all = Some(all);
+            return below(slack);
+        }
+        let slack = self.search(from, bound);
+        self.known.insert(from, (slack, bound));
+        slack
+    }
+
+    fn search(&mut self, from: Tp, bound: f64) -> f64 {
+        self.search += 1;
+        let (stn, target, search) = (self.stn, self.target, self.search);
+        if self.dist.is_empty() {
+            let n = stn.len();
+            (self.dist, self.seen, self.done) = (vec![0.0; n], vec![0; n], vec![0; n]);
+        }
+        self.heap.clear();
+        self.dist[from as usize] = 0.0;
+        self.seen[from as usize] = search;
+        self.heap.push(Reverse(Key(0.0, from)));
+        while let Some(Reverse(Key(d, x))) = self.heap.pop() {
+            if d >= bound {
+                return f64::INFINITY;
+            }
+            if x == target {
+                return d;
+            }
+            if self.done[x as usize] == search {
+                continue;
+            }
+            self.done[x as usize] = search;
+            self.settled += 1;
+            let ex = stn.est(x);
+            for e in stn.edges(x) {
+                let y = e.to as usize;
+                if self.done[y] == search {
+                    continue;
+                }
+                let nd = d + (stn.est(e.to) - ex - e.w).max(0.0);
+                if self.seen[y] != search || nd < self.dist[y] {
+                    self.seen[y] = search;
+                    self.dist[y] = nd;
+                    self.heap.push(Reverse(Key(nd, e.to)));
+                }
+            }
+        }
+        f64::INFINITY
+    }
+}
+
+impl Slacks<'_> {
+    /// Every point's slack towards the target: Dijkstra's search from the
+    /// target along the edges backwards (the slacks of edges are never
+    /// negative). `INFINITY` for a point that does not precede it.
+    fn backwards(&mut self) -> Vec<f64> {
+        let stn = self.stn;
+        let n = stn.len();
+        let mut into: Vec<Vec<(Tp, f64)>> = vec![Vec::new(); n];
+        for x in 0..n as Tp {
+            let ex = stn.est(x);
+            for e in stn.edges(x) {
+                into[e.to as usize].push((x, (stn.est(e.to) - ex - e.w).max(0.0)));
+            }
+        }
+        let mut slack = vec![f64::INFINITY; n];
+        let mut done = vec![false; n];
+        slack[self.target as usize] = 0.0;
+        self.heap.clear();
+        self.heap.push(Reverse(Key(0.0, self.target)));
+        while let Some(Reverse(Key(d, y))) = self.heap.pop() {
+            if std::mem::replace(&mut done[y as usize], true) {
+                continue;
+            }
+            for &(x, w) in &into[y as usize] {
+                let nd = w + d;
+                if !done[x as usize] && nd < slack[x as usize] {
+                    slack[x as usize] = nd;
+                    self.heap.push(Reverse(Key(nd, x)));
+                }
+            }
+        }
+        slack
+    }
+}
+
 /// A slack and its point, ordered by slack (a total order on floats), for
 /// the heap of [`Stn::slack_to`].
 #[derive(Clone, Copy, PartialEq)]
@@ -113,6 +253,13 @@ impl Stn {
     pub fn before(&self, a: Tp, b: Tp) -> bool {
         let row = &self.pred[b as usize];
         row.get(a as usize / 64).is_some_and(|w| w >> (a % 64) & 1 == 1)
+    }
+
+    /// The closure's row of `b`: bit `a` is set when `b` is after `a` in
+    /// every solution ([`Stn::before`] of a whole row, for a caller that
+    /// asks about many points before `b`).
+    pub fn predecessors(&self, b: Tp) -> &[u64] {
+        self.pred.get(b as usize).map_or(&[], |r| r.as_slice())
     }
 
     /// Whether `t_b ≥ t_a + w` already holds in the closure's sense: `b` is
@@ -195,10 +342,14 @@ impl Stn {
             return false;
         }
         self.est.set(b as usize, start);
-        let mut queue = VecDeque::from([b]);
+        // Earliest first: a point's predecessors are mostly settled before
+        // its turn, so few points are raised twice.
+        let mut heap = std::collections::BinaryHeap::from([Reverse(Key(start, b))]);
         let mut budget = 64 * (self.len() + 16) * (self.len() + 16);
-        while let Some(x) = queue.pop_front() {
-            let tx = self.est(x);
+        while let Some(Reverse(Key(tx, x))) = heap.pop() {
+            if tx != self.est(x) {
+                continue;
+            }
             let out = Rc::clone(&self.out[x as usize]);
             for e in out.iter() {
                 let t = tx + e.w;
@@ -207,7 +358,7 @@ impl Stn {
                         return false;
                     }
                     self.est.set(e.to as usize, t);
-                    queue.push_back(e.to);
+                    heap.push(Reverse(Key(t, e.to)));
                 }
                 budget = budget.saturating_sub(1);
                 if budget == 0 {
@@ -230,38 +381,7 @@ impl Stn {
     /// reaches only the points after `from` whose detour is below the
     /// bound (few, for a point late in the plan, where new steps go).
     pub fn slack_to(&self, from: Tp, target: Tp, bound: f64) -> f64 {
-        let n = self.len();
-        if from as usize >= n || target as usize >= n || bound <= 0.0 {
-            return f64::INFINITY;
-        }
-        let mut dist: rustc_hash::FxHashMap<Tp, f64> = rustc_hash::FxHashMap::default();
-        let mut done: rustc_hash::FxHashSet<Tp> = rustc_hash::FxHashSet::default();
-        dist.insert(from, 0.0);
-        let mut heap = std::collections::BinaryHeap::from([Reverse(Key(0.0, from))]);
-        while let Some(Reverse(Key(d, x))) = heap.pop() {
-            if d >= bound {
-                return f64::INFINITY;
-            }
-            if x == target {
-                return d;
-            }
-            if !done.insert(x) {
-                continue;
-            }
-            let ex = self.est(x);
-            for e in self.edges(x) {
-                if done.contains(&e.to) {
-                    continue;
-                }
-                let nd = d + (self.est(e.to) - ex - e.w).max(0.0);
-                let cur = dist.entry(e.to).or_insert(f64::INFINITY);
-                if nd < *cur {
-                    *cur = nd;
-                    heap.push(Reverse(Key(nd, e.to)));
-                }
-            }
-        }
-        f64::INFINITY
+        Slacks::new(self, target).slack(from, bound)
     }
 
     /// Adds `a < b` to the closure: every point at or after `b` gets `a`
@@ -278,10 +398,23 @@ impl Stn {
             add.resize(word + 1, 0);
         }
         add[word] |= 1 << bit;
-        for y in 0..self.len() {
-            if y != b as usize && !self.before(b, y as Tp) {
-                continue;
+        // `b` and the points after it: those its edges of non-negative
+        // weight reach (the closure is theirs), few for a point late in the
+        // plan, where a scan of every point would cost the whole network.
+        let mut after = vec![b];
+        let mut seen = vec![false; self.len()];
+        seen[b as usize] = true;
+        let mut i = 0;
+        while let Some(&x) = after.get(i) {
+            i += 1;
+            for e in self.edges(x) {
+                if e.w >= 0.0 && !std::mem::replace(&mut seen[e.to as usize], true) {
+                    after.push(e.to);
+                }
             }
+        }
+        for y in after {
+            let y = y as usize;
             if self.before(a, y as Tp) {
                 continue;
             }
@@ -383,11 +516,59 @@ mod tests {
         assert_eq!(lst[a as usize], 2.0);
     }
 
+    /// The closure is reachability along the edges of non-negative
+    /// weight, after every change of random networks (constraints that
+    /// fail leave the network as it was: the clone is dropped).
+    #[test]
+    fn the_closure_is_reachability_along_non_negative_edges() {
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move |m: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % m
+        };
+        for _ in 0..300 {
+            let mut s = Stn::new();
+            let n = 2 + next(25) as usize;
+            let pts: Vec<Tp> = (0..n).map(|_| s.add_point()).collect();
+            for _ in 0..next(50) {
+                let (a, b) = (pts[next(n as u64) as usize], pts[next(n as u64) as usize]);
+                let w = match next(3) {
+                    0 => EPS,
+                    1 => next(20) as f64,
+                    _ => -(next(20) as f64),
+                };
+                let mut t = s.clone();
+                if t.add(a, b, w) {
+                    s = t;
+                }
+                for x in 0..s.len() as Tp {
+                    let mut reach = vec![false; s.len()];
+                    let mut stack = vec![x];
+                    while let Some(y) = stack.pop() {
+                        for e in s.edges(y) {
+                            if e.w >= 0.0 && !std::mem::replace(&mut reach[e.to as usize], true) {
+                                stack.push(e.to);
+                            }
+                        }
+                    }
+                    for y in 0..s.len() as Tp {
+                        if y != x {
+                            assert_eq!(s.before(x, y), reach[y as usize], "{x} before {y}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// `slack_to` against the definition, by rounds of relaxation over
     /// every edge, on random consistent networks (orderings, durations both
     /// ways, release dates and deadlines).
     #[test]
     fn slacks_agree_with_relaxation_to_a_fixpoint() {
+        let mut backwards = 0;
         let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
         let mut next = move |m: u64| {
             seed ^= seed << 13;
@@ -453,6 +634,24 @@ mod tests {
                     "slack_to({t}, {sink}, {bound}) = {fwd} but {expected}"
                 );
             }
+            // Many questions to one `Slacks`: answers kept, then every
+            // slack at once backwards once the searches settled enough.
+            let mut shared = Slacks::new(&s, sink);
+            for round in 0..4 {
+                for t in 0..s.len() as Tp {
+                    let bound = if next(4) == 0 { f64::INFINITY } else { next(40) as f64 };
+                    let got_shared = shared.slack(t, bound);
+                    let slack = got[t as usize];
+                    let near = (slack - bound).abs() < 1e-6;
+                    let expected = if slack < bound { slack } else { f64::INFINITY };
+                    assert!(
+                        near || got_shared == expected || (got_shared - expected).abs() < 1e-6,
+                        "round {round}: Slacks::slack({t}, {bound}) = {got_shared} but {expected} (target {sink})"
+                    );
+                }
+            }
+            backwards += usize::from(shared.all.is_some());
         }
+        assert!(backwards > 0, "no network asked enough for every slack at once");
     }
 }

@@ -5,7 +5,7 @@
 //! flaws.
 
 use super::super::plan::{INIT, Kind, Open, Plan};
-use super::super::stn::{EPS, ORIGIN, Tp};
+use super::super::stn::{EPS, ORIGIN, Slacks, Tp};
 use super::super::task::{Lit, Task};
 use super::super::{Motion, PlanHeuristic};
 use super::Search;
@@ -112,6 +112,7 @@ impl Search<'_, '_> {
         }
         threats.sort_by(|x, y| y.0[0].min(y.0[1]).total_cmp(&x.0[0].min(x.0[1])));
         let mut penalty: f64 = 0.0;
+        let mut slacks = Slacks::new(&p.stn, p.goal_tp);
         for (d, b) in threats {
             if d[0].min(d[1]) <= penalty {
                 break;
@@ -119,11 +120,11 @@ impl Search<'_, '_> {
             // The cheaper ordering first: the other is only needed if it
             // could delay more than the penalty.
             let (i, j) = if d[0] <= d[1] { (0, 1) } else { (1, 0) };
-            let vi = d[i] - p.stn.slack_to(b[i], p.goal_tp, d[i] - penalty);
+            let vi = d[i] - slacks.slack(b[i], d[i] - penalty);
             if vi <= penalty {
                 continue;
             }
-            let vj = d[j] - p.stn.slack_to(b[j], p.goal_tp, d[j] - penalty);
+            let vj = d[j] - slacks.slack(b[j], d[j] - penalty);
             penalty = penalty.max(vi.min(vj));
         }
         Some(penalty.max(0.0))
