@@ -947,9 +947,13 @@ impl<'p, 'db> Repair<'p, 'db> {
             }
         }
         let points = tps.iter().map(|&(a, e, _)| (a, e)).collect();
+        let rows: Vec<&[u64]> = tps.iter().map(|t| plan.stn.predecessors(t.2)).collect();
         self.phantoms = order::OldOrder::new(
             points,
-            |i, j| plan.stn.before(tps[i].2, tps[j].2),
+            |i, j| {
+                let a = tps[i].2 as usize;
+                rows[j].get(a / 64).is_some_and(|w| w >> (a % 64) & 1 == 1)
+            },
             |i| plan.stn.est(tps[i].2),
         );
         for l in plan.links.iter() {

@@ -7,6 +7,7 @@
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::db::{Db, Item, Unit};
+use crate::model::Str;
 use crate::plan::Plan as PlanFile;
 use crate::planner::task::{Task, atom_of};
 use crate::semantics::check::domain_for;
@@ -93,19 +94,18 @@ pub struct Execution {
 
 /// Reads the old plan against the new task.
 pub fn read(task: &Task<'_>, plan: &PlanFile, execution: &Execution) -> Vec<OldStep> {
-    let key = |name: &str, args: &mut dyn Iterator<Item = String>| {
-        let mut k = name.to_lowercase();
-        for a in args {
-            k.push(' ');
-            k.push_str(&a.to_lowercase());
-        }
-        k
-    };
-    let mut ops: FxHashMap<String, u32> = FxHashMap::default();
+    // The operators by lower-case name and arguments (each name lowered once).
+    let mut lower: FxHashMap<&str, Str> = FxHashMap::default();
+    let mut ops: FxHashMap<(Str, &[ObjId]), u32> = FxHashMap::default();
     for (i, o) in task.ops.iter().enumerate() {
-        let k = key(&o.name, &mut o.args.iter().map(|&a| task.g.objects.name(a).to_string()));
-        ops.entry(k).or_insert(i as u32);
+        let name = lower.entry(o.name.as_str()).or_insert_with(|| Str::from(o.name.to_lowercase())).clone();
+        ops.entry((name, o.args.as_slice())).or_insert(i as u32);
     }
+    let find = |s: &crate::plan::Step| -> Option<u32> {
+        let args: Vec<ObjId> =
+            s.args.iter().map(|a| task.g.objects.id(&a.text.to_lowercase())).collect::<Option<_>>()?;
+        ops.get(&(Str::from(s.name.text.to_lowercase()), args.as_slice())).copied()
+    };
     let mut by_id: FxHashMap<u32, usize> = FxHashMap::default();
     let mut steps: Vec<OldStep> = plan
         .steps
@@ -114,8 +114,7 @@ pub fn read(task: &Task<'_>, plan: &PlanFile, execution: &Execution) -> Vec<OldS
         .map(|(i, s)| {
             let id = s.id.as_ref().map_or(i as u32, |d| d.value);
             by_id.entry(id).or_insert(i);
-            let k = key(&s.name.text, &mut s.args.iter().map(|a| a.text.to_string()));
-            let op = ops.get(&k).copied().ok_or(Missing::NoOperator);
+            let op = find(s).ok_or(Missing::NoOperator);
             let start = s.start.as_ref().map(|n| n.value);
             OldStep {
                 call: s.call(),
@@ -389,6 +388,16 @@ pub fn links_by_name(
         }
         false
     };
+    // The steps that make each literal.
+    let mut makers: FxHashMap<&(bool, String), Vec<usize>> = FxHashMap::default();
+    for (p, g) in grounded.iter().enumerate() {
+        for m in g.iter().flat_map(|(_, makes)| makes) {
+            let v = makers.entry(m).or_default();
+            if v.last() != Some(&p) {
+                v.push(p);
+            }
+        }
+    }
     const SLACK: f64 = 1e-6;
     let mut links = Vec::new();
     for (c, g) in grounded.iter().enumerate() {
@@ -398,19 +407,18 @@ pub fn links_by_name(
             // The last producer ended before it started, else the last one
             // that started before it (an effect at the start, or a
             // condition at the end).
-            let producers = grounded.iter().enumerate().filter(|&(p, g)| {
-                p != c && !above(c, p) && g.as_ref().is_some_and(|(_, makes)| makes.contains(need))
-            });
+            let producers =
+                makers.get(need).into_iter().flatten().copied().filter(|&p| p != c && !above(c, p));
             let best = producers
                 .clone()
-                .filter(|&(p, _)| steps[p].end <= start + SLACK)
-                .max_by(|a, b| steps[a.0].end.total_cmp(&steps[b.0].end))
+                .filter(|&p| steps[p].end <= start + SLACK)
+                .max_by(|&a, &b| steps[a].end.total_cmp(&steps[b].end))
                 .or_else(|| {
                     producers
-                        .filter(|&(p, _)| steps[p].start <= start + SLACK && steps[p].end <= end + SLACK)
-                        .max_by(|a, b| steps[a.0].start.total_cmp(&steps[b.0].start))
+                        .filter(|&p| steps[p].start <= start + SLACK && steps[p].end <= end + SLACK)
+                        .max_by(|&a, &b| steps[a].start.total_cmp(&steps[b].start))
                 });
-            if let Some((p, _)) = best {
+            if let Some(p) = best {
                 links.push((p, c));
             }
         }
