@@ -72,6 +72,8 @@ OPTIONS:
     --time-limit S      search time limit per problem, seconds (default 60; per run, 10
                         for survivors-repair)
     --jobs N            problems planned at once, each in its own process (default 1)
+    --repeat N          survivors-repair: runs of each repair and replan, each in its
+                        own process; the run of median time is reported (default 3)
     --out FILE.md       the report (default target/plan-bench.md; the repair suites:
                         target/repair-bench.md); the CSV is FILE.csv
     --per-domain N      hddl: only the first N problems of each domain
@@ -98,6 +100,8 @@ pub(crate) struct Args {
     /// `None`: the suite's default.
     pub(crate) time_limit: Option<f64>,
     pub(crate) jobs: usize,
+    /// Runs of each survivors-repair job (the median is reported).
+    pub(crate) repeat: usize,
     /// `None`: the suite's default, in the target folder.
     pub(crate) out: Option<PathBuf>,
     pub(crate) per_domain: Option<usize>,
@@ -144,6 +148,7 @@ pub(crate) fn parse_args(raw: &[String]) -> Result<Args, String> {
         configs: None,
         time_limit: None,
         jobs: 1,
+        repeat: 3,
         out: None,
         per_domain: None,
         filter: None,
@@ -174,6 +179,10 @@ pub(crate) fn parse_args(raw: &[String]) -> Result<Args, String> {
             "--jobs" => {
                 let v = value("--jobs")?;
                 a.jobs = v.parse().ok().filter(|&n| n > 0).ok_or(format!("invalid job count `{v}`"))?;
+            }
+            "--repeat" => {
+                let v = value("--repeat")?;
+                a.repeat = v.parse().ok().filter(|&n| n > 0).ok_or(format!("invalid repeat count `{v}`"))?;
             }
             "--out" => a.out = Some(from_workspace(&value("--out")?)),
             "--per-domain" => {

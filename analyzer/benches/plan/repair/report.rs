@@ -284,11 +284,13 @@ pub(crate) fn report(ctx: &Context) -> String {
     );
     let _ = writeln!(
         out,
-        "- configuration {}; time limit {} s per run (the repair's stages share it: each search gets at most a quarter of it, the full replan what is left); {} job{} at once, each run in its own process",
+        "- configuration {}; time limit {} s per run (the repair's stages share it: each search gets at most a quarter of it, the full replan what is left); {} job{} at once, each run in its own process; each repair, repairFlat and replan of an event runs {} time{}, and the run of median time is reported (the plans are the same)",
         ctx.config,
         ctx.limit,
         a.jobs,
-        if a.jobs == 1 { "" } else { "s" }
+        if a.jobs == 1 { "" } else { "s" },
+        a.repeat,
+        if a.repeat == 1 { "" } else { "s" }
     );
     if !ctx.initial.is_empty() {
         let _ = writeln!(
