@@ -342,14 +342,20 @@ impl Stn {
             return false;
         }
         self.est.set(b as usize, start);
-        // Earliest first: a point's predecessors are mostly settled before
-        // its turn, so few points are raised twice.
-        let mut heap = std::collections::BinaryHeap::from([Reverse(Key(start, b))]);
+        // In the closure's order: a point has more predecessors than any
+        // point before it, so taking the raised points by their number of
+        // predecessors takes a point after every raised point before it,
+        // and raises it once (in first-in-first-out order, a repair that
+        // inserts a step early in a plan of 1,200 points processed 17.9
+        // million points to raise 1.2 million).
+        let rank = |s: &Stn, x: Tp| -> u32 { s.pred[x as usize].iter().map(|w| w.count_ones()).sum() };
+        let mut heap = std::collections::BinaryHeap::from([Reverse((rank(self, b), b))]);
+        let mut queued = rustc_hash::FxHashSet::default();
+        queued.insert(b);
         let mut budget = 64 * (self.len() + 16) * (self.len() + 16);
-        while let Some(Reverse(Key(tx, x))) = heap.pop() {
-            if tx != self.est(x) {
-                continue;
-            }
+        while let Some(Reverse((_, x))) = heap.pop() {
+            queued.remove(&x);
+            let tx = self.est(x);
             let out = Rc::clone(&self.out[x as usize]);
             for e in out.iter() {
                 let t = tx + e.w;
@@ -358,7 +364,9 @@ impl Stn {
                         return false;
                     }
                     self.est.set(e.to as usize, t);
-                    heap.push(Reverse(Key(t, e.to)));
+                    if queued.insert(e.to) {
+                        heap.push(Reverse((rank(self, e.to), e.to)));
+                    }
                 }
                 budget = budget.saturating_sub(1);
                 if budget == 0 {
