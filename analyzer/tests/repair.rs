@@ -425,6 +425,39 @@ fn an_abstract_step_that_lost_its_subtasks_is_removed_by_the_next_ring() {
     assert!(errors.is_empty(), "{errors:?}");
 }
 
+/// A patrol half executed when r1's sensor fails at 17 s, during its move
+/// from b to c: it observed p1, its observation of p2 can no longer
+/// happen. Section 5.3: the patrol goes, what ran stays, and every action
+/// may finish its work (𝒜 = A, where `observe` is not allowed): another
+/// robot goes to c and observes p2, not an unreachable one. Before, the
+/// patrol stayed (it is being executed), could not be refined again, and
+/// there was no plan, even after the full replan.
+#[test]
+fn a_half_executed_patrol_is_finished_by_any_action() {
+    let mid = |t: &str| {
+        t.replace(
+            "(at 5 (not (visible r1 b p1))) (at 5 (not (visible r1 c p2)))",
+            "(at 17 (not (visible r1 c p2)))",
+        )
+    };
+    assert!(mid(&read("tests/repair/lost-robot/new-problem.pddl")).contains("(at 17 "));
+    for (unreachable, finisher) in [(&[][..], "(observe r2 c p2)"), (&["r2"][..], "(observe r3 c p2)")] {
+        let (old, result, errors) = lost_robot(&mid, &at(17.0, unreachable));
+        assert_eq!(result.status, Status::Solved, "{:?}", result.stages);
+        assert_eq!(result.stage, Some(Stage::Obsolete), "{:?}", result.stages);
+        let why: Vec<(&str, Why)> =
+            result.removed.iter().map(|r| (result.old[r.step].call.as_str(), r.why)).collect();
+        assert!(why.contains(&("(patrol r1)", Why::HalfExecuted)), "{why:?}");
+        assert!(why.contains(&("(observe r1 c p2)", Why::ConditionGone)), "{why:?}");
+        let steps = primitive(&result);
+        for ran in ["(move r1 a b)", "(observe r1 b p1)", "(move r1 b c)"] {
+            assert!(old.contains(&ran.to_string()) && steps.contains(&ran.to_string()), "{ran}: {steps:?}");
+        }
+        assert!(steps.contains(&finisher.to_string()), "{steps:?}");
+        assert!(errors.is_empty(), "{errors:?}");
+    }
+}
+
 /// Nothing new starts before now (5.3: the past is executed). Before, r2's
 /// moves to b were scheduled from 0, in the past of a plan executed up to
 /// 5 s; steps that started before now stay where they were.

@@ -173,6 +173,7 @@ impl MotionGroup {
 }
 
 /// The planning task.
+#[derive(Clone)]
 pub struct Task<'db> {
     pub g: &'db Ground<'db>,
     pub problem: Unit<'db>,

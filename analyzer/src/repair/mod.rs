@@ -106,6 +106,10 @@ pub enum Why {
     /// A condition that only the initial state and the timed literals give
     /// no longer holds from now on (a robot out of service, a window closed).
     ConditionGone,
+    /// An abstract step un-refined while some of its subtasks had run
+    /// (5.3): it goes, the subtasks that ran stay on their own, and every
+    /// action may be inserted to finish its work (𝒜 = A).
+    HalfExecuted,
     /// A move of the old plan from where its robot no longer is (it starts
     /// elsewhere, or the moves before it were removed): its route is
     /// planned again from where the robot is.
@@ -128,6 +132,10 @@ impl Why {
             Why::Deadline(t) => format!("it comes before the deadline at {t}, which the plan misses"),
             Why::ConditionGone => {
                 "obsolete: a condition that only the initial state and timed literals give never holds again"
+                    .into()
+            }
+            Why::HalfExecuted => {
+                "it was half executed: the subtasks that ran stay, and every action may now finish its work (𝒜 = A)"
                     .into()
             }
             Why::Rerouted => {
@@ -348,6 +356,9 @@ fn attempt<'db>(
     let mut stages = Vec::new();
     let mut stage = Stage::Obsolete;
     let mut last = None;
+    // The task with every action allowed, once a half-executed abstract
+    // step is removed.
+    let mut every: Option<Prepared<'db>> = None;
     let goals = prepared.task.goals.len();
     loop {
         let remaining = limits.time.map(|t| t.saturating_sub(started.elapsed()));
@@ -364,7 +375,11 @@ fn attempt<'db>(
             nodes: Some(stage_nodes(kept).min(limits.nodes.unwrap_or(u64::MAX))),
             ..stage_limits
         };
-        let outcome = prepared.search(db, config, &stage_limits, Some(&seed), cancel, progress);
+        if r.every_action && every.is_none() {
+            every = Some(every_action(prepared, &options.execution.unreachable));
+        }
+        let searcher = every.as_ref().unwrap_or(prepared);
+        let outcome = searcher.search(db, config, &stage_limits, Some(&seed), cancel, progress);
         stages.push(StageRun {
             stage,
             kept,
@@ -417,7 +432,11 @@ fn attempt<'db>(
             let frozen = r.kept().next().is_some();
             let seed = (frozen || options.execution.now.is_some())
                 .then(|| Seed { now: options.execution.now, ..r.seed() });
-            let outcome = prepared.search(db, config, &replan_limits, seed.as_ref(), cancel, progress);
+            if r.every_action && every.is_none() {
+                every = Some(every_action(prepared, &options.execution.unreachable));
+            }
+            let searcher = every.as_ref().unwrap_or(prepared);
+            let outcome = searcher.search(db, config, &replan_limits, seed.as_ref(), cancel, progress);
             stages.push(StageRun {
                 stage: Stage::Replan,
                 kept: r.kept().count(),
@@ -440,6 +459,23 @@ fn attempt<'db>(
         lints: replan.lints,
         stats: replan.stats,
     }
+}
+
+/// Section 5.3: once a half-executed abstract step is removed, the
+/// searches may insert every primitive action (𝒜 = A), but those of the
+/// unreachable agents (5.4); the heuristic is computed for that set.
+fn every_action<'db>(prepared: &Prepared<'db>, unreachable: &[String]) -> Prepared<'db> {
+    let mut task = prepared.task.clone();
+    for op in &mut task.ops {
+        if !op.is_abstract {
+            op.allowed = true;
+        }
+    }
+    task.rebuild_achievers();
+    let h = crate::planner::heuristic::Heuristic::new(&task);
+    let mut every = Prepared { task, h };
+    out_of_reach(&mut every, unreachable);
+    every
 }
 
 /// Section 5.4: an agent out of communication cannot learn of a new step.
@@ -497,6 +533,9 @@ struct Repair<'p, 'db> {
     /// The old plan's causal links rebuilt by name (`old::links_by_name`).
     by_name: Vec<(usize, usize)>,
     stage: Stage,
+    /// A half-executed abstract step was removed: the searches may insert
+    /// every action (𝒜 = A, section 5.3).
+    every_action: bool,
 }
 
 impl<'p, 'db> Repair<'p, 'db> {
@@ -514,6 +553,7 @@ impl<'p, 'db> Repair<'p, 'db> {
             links: Vec::new(),
             by_name: Vec::new(),
             stage: Stage::Obsolete,
+            every_action: false,
         }
     }
 
@@ -550,12 +590,19 @@ impl<'p, 'db> Repair<'p, 'db> {
 
     /// Un-refines abstract step `p`: every step its method added goes,
     /// except frozen ones, which stay on their own; `p` stays, unrefined.
+    /// When some of those had run (executed or running), `p` was half
+    /// executed: it goes too, with what is above it, and the searches may
+    /// insert every action to finish its work (5.3: refined again, it
+    /// would do again what ran). Not in a problem with an `:htn`, whose
+    /// task network needs its tasks.
     fn unrefine(&mut self, p: usize) {
         let stage = self.stage;
         self.old[p].method = None;
+        let mut ran = false;
         let mut stack = self.old[p].children.clone();
         while let Some(s) = stack.pop() {
             if self.old[s].frozen {
+                ran |= self.old[s].fixed;
                 self.old[s].parent = None;
                 continue;
             }
@@ -569,6 +616,15 @@ impl<'p, 'db> Repair<'p, 'db> {
             .filter(|&c| self.why[c].is_none() && self.old[c].parent == Some(p))
             .collect();
         self.old[p].children = children;
+        if ran && self.prepared.task.htn.is_none() && self.why[p].is_none() {
+            self.every_action = true;
+            self.remove(p, Why::HalfExecuted, stage);
+            if let Some(q) = self.old[p].parent
+                && self.why[q].is_none()
+            {
+                self.unrefine(q);
+            }
+        }
     }
 
     /// Stage 1: the obsolete steps, then the steps that support nothing.
