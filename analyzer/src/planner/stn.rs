@@ -140,9 +140,7 @@ impl<'a> Slacks<'a> {
         }
         f64::INFINITY
     }
-}
 
-impl Slacks<'_> {
     /// Every point's slack towards the target: Dijkstra's search from the
     /// target along the edges backwards (the slacks of edges are never
     /// negative). `INFINITY` for a point that does not precede it.

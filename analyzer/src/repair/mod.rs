@@ -375,10 +375,7 @@ fn attempt<'db>(
             nodes: Some(stage_nodes(kept).min(limits.nodes.unwrap_or(u64::MAX))),
             ..stage_limits
         };
-        if r.every_action && every.is_none() {
-            every = Some(every_action(prepared, &options.execution.unreachable));
-        }
-        let searcher = every.as_ref().unwrap_or(prepared);
+        let searcher = searcher(&mut every, r.every_action, prepared, &options.execution.unreachable);
         let outcome = searcher.search(db, config, &stage_limits, Some(&seed), cancel, progress);
         stages.push(StageRun {
             stage,
@@ -432,10 +429,7 @@ fn attempt<'db>(
             let frozen = r.kept().next().is_some();
             let seed = (frozen || options.execution.now.is_some())
                 .then(|| Seed { now: options.execution.now, ..r.seed() });
-            if r.every_action && every.is_none() {
-                every = Some(every_action(prepared, &options.execution.unreachable));
-            }
-            let searcher = every.as_ref().unwrap_or(prepared);
+            let searcher = searcher(&mut every, r.every_action, prepared, &options.execution.unreachable);
             let outcome = searcher.search(db, config, &replan_limits, seed.as_ref(), cancel, progress);
             stages.push(StageRun {
                 stage: Stage::Replan,
@@ -461,10 +455,25 @@ fn attempt<'db>(
     }
 }
 
+/// What the searches plan with: `prepared`, or, once a half-executed
+/// abstract step is removed (`every_action`), its task with every action
+/// allowed, made the first time and kept in `every`.
+fn searcher<'a, 'db>(
+    every: &'a mut Option<Prepared<'db>>,
+    every_action: bool,
+    prepared: &'a Prepared<'db>,
+    unreachable: &[String],
+) -> &'a Prepared<'db> {
+    if !every_action {
+        return prepared;
+    }
+    every.get_or_insert_with(|| with_every_action(prepared, unreachable))
+}
+
 /// Section 5.3: once a half-executed abstract step is removed, the
 /// searches may insert every primitive action (𝒜 = A), but those of the
 /// unreachable agents (5.4); the heuristic is computed for that set.
-fn every_action<'db>(prepared: &Prepared<'db>, unreachable: &[String]) -> Prepared<'db> {
+fn with_every_action<'db>(prepared: &Prepared<'db>, unreachable: &[String]) -> Prepared<'db> {
     let mut task = prepared.task.clone();
     for op in &mut task.ops {
         if !op.is_abstract {
