@@ -516,18 +516,22 @@ mod tests {
         assert_eq!(lst[a as usize], 2.0);
     }
 
+    /// A small deterministic generator: `next(m)` is below `m`.
+    fn below(mut seed: u64) -> impl FnMut(u64) -> u64 {
+        move |m: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % m
+        }
+    }
+
     /// The closure is reachability along the edges of non-negative
     /// weight, after every change of random networks (constraints that
     /// fail leave the network as it was: the clone is dropped).
     #[test]
     fn the_closure_is_reachability_along_non_negative_edges() {
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move |m: u64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed % m
-        };
+        let mut next = below(0x2545_f491_4f6c_dd1d);
         for _ in 0..300 {
             let mut s = Stn::new();
             let n = 2 + next(25) as usize;
@@ -569,13 +573,7 @@ mod tests {
     #[test]
     fn slacks_agree_with_relaxation_to_a_fixpoint() {
         let mut backwards = 0;
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = move |m: u64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed % m
-        };
+        let mut next = below(0x9e37_79b9_7f4a_7c15);
         for _ in 0..400 {
             let mut s = Stn::new();
             let n = 2 + next(30) as usize;
