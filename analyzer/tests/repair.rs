@@ -605,3 +605,59 @@ fn a_start_plan_does_not_link_across_a_step_that_undid_the_condition() {
     // What nothing undid is linked as before: the scan of b to the first move.
     assert!(plan.links.iter().any(|l| l.from == first && l.to == plan_step(1)));
 }
+
+/// Repairs the plan text `old` for `new_problem`: the repair and the
+/// repaired plan's validation errors.
+fn repair_text(domain: &str, new_problem: &str, old: &str) -> (RepairResult, Vec<String>) {
+    let mut host = AnalysisHost::new();
+    host.set_file_text("domain.pddl", domain.to_string());
+    let np = host.set_file_text("new-problem.pddl", new_problem.to_string());
+    let f = host.set_file_text("old.plan", old.to_string());
+    let limits = PlannerLimits { time: Some(std::time::Duration::from_secs(30)), ..PlannerLimits::default() };
+    let options = RepairOptions::default();
+    let result = host.analysis().run_repair(
+        np,
+        f,
+        None,
+        &Config::default(),
+        &limits,
+        &options,
+        &|| false,
+        &mut |_| {},
+    );
+    let result = result.unwrap().unwrap();
+    let plan = result.plan.as_ref().expect("a plan");
+    let r = host.set_file_text("repaired.plan", plan.to_val(""));
+    let v = host.analysis().validate_plan(r, None, np, &Default::default()).unwrap().unwrap();
+    let errors = v
+        .diagnostics
+        .iter()
+        .filter(|d| d.severity == hipop_analyzer::Severity::Error)
+        .map(|d| format!("{} {}", d.code.id, d.message))
+        .collect();
+    (result, errors)
+}
+
+/// What stays of the old plan keeps its old times where that delays the
+/// end no further than the old steps ended: the photograph of z1 is no
+/// longer needed, and the earliest schedule would drill and photograph z3
+/// 3.01 s earlier than the team expects. Under a deadline (quiet ends at
+/// 10 s, and the photograph needs it all along) the old times cannot be
+/// kept, and both steps come as early as they can.
+#[test]
+fn the_steps_kept_keep_their_old_times_unless_a_deadline_forbids_it() {
+    let dir = "tests/repair/phantom-link-keeps-order";
+    let domain = read(&format!("{dir}/domain.pddl"));
+    let problem = read(&format!("{dir}/new-problem.pddl"));
+    let old = read(&format!("{dir}/old.plan"));
+    let (result, errors) = repair_text(&domain, &problem, &old);
+    assert!(errors.is_empty(), "{errors:?}");
+    let plan = result.plan.as_ref().unwrap();
+    assert_eq!(timed(plan), ["0.000 (set-up c1)", "5.020 (drill z2)", "9.030 (photograph c1 z3)"]);
+    let deadline = problem.replace("(:init (quiet))", "(:init (quiet) (at 10 (not (quiet))))");
+    assert!(deadline.contains("(at 10 "));
+    let (result, errors) = repair_text(&domain, &deadline, &old);
+    assert!(errors.is_empty(), "{errors:?}");
+    let plan = result.plan.as_ref().unwrap();
+    assert_eq!(timed(plan), ["0.000 (set-up c1)", "2.010 (drill z2)", "6.020 (photograph c1 z3)"]);
+}

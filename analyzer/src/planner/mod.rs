@@ -387,7 +387,8 @@ impl<'db> Prepared<'db> {
         let mut best = None;
         let end = search.run(roots, limits, cancel, progress, &mut stats, &mut best);
         match end {
-            search::End2::Solved(p) => {
+            search::End2::Solved(mut p) => {
+                p.keep_old_times();
                 let plan = output::solved(db, task, &p);
                 Outcome { status: Status::Solved, plan: Some(plan), stats, lints: Vec::new() }
             }

@@ -122,6 +122,17 @@ pub struct Plan {
     /// The earliest start of a step added from now on: a repair of a
     /// partially executed plan cannot start anything in the past (0: none).
     pub not_before: f64,
+    /// A repair's old schedule ([`Plan::keep_old_times`]).
+    pub old_times: Rc<OldSchedule>,
+}
+
+/// The old schedule of a repair's start plan: the start point of each old
+/// step still in (primitive and not fixed) with its old start, and the
+/// latest old end of the old steps still in.
+#[derive(Debug, Clone, Default)]
+pub struct OldSchedule {
+    pub starts: Vec<(Tp, f64)>,
+    pub makespan: f64,
 }
 
 pub const INIT: u32 = 0;
@@ -143,6 +154,7 @@ impl Plan {
             clock: 0,
             tails: Rc::new(Vec::new()),
             not_before: 0.0,
+            old_times: Rc::new(OldSchedule::default()),
         };
         p.steps.push(Step {
             kind: Kind::Init,
@@ -191,6 +203,44 @@ impl Plan {
             .filter(|s| matches!(s.kind, Kind::Op(_)))
             .map(|s| self.stn.est(s.end))
             .fold(0.0, f64::max)
+    }
+
+    /// Schedules a repaired plan's old steps no earlier than the old plan
+    /// did, as far as the old steps' end allows. The written times are the
+    /// earliest schedule, in which an old step moves earlier as soon as
+    /// something before it was removed or shortened, and every step that
+    /// moves is an action retimed for the team that executes the plan.
+    ///
+    /// An old step keeps its old start when, on its own, that start delays
+    /// the plan's end to no later than the old steps ended (or than the
+    /// earliest schedule ends, if later) and breaks no deadline: its delay
+    /// is within its slack towards the goal, plus what the end may give,
+    /// and within its slack towards the origin (through the deadlines).
+    /// Those starts are added together: the least schedule with all of them
+    /// is the latest of the least schedules with each (the schedules of a
+    /// temporal network are closed under pointwise maximum), which keeps
+    /// every deadline and ends no later than any of them.
+    pub fn keep_old_times(&mut self) {
+        let old = Rc::clone(&self.old_times);
+        let late = |p: &Plan, tp: Tp, t: f64| t - p.stn.est(tp);
+        let mut starts: Vec<(Tp, f64)> =
+            old.starts.iter().copied().filter(|&(tp, t)| late(self, tp, t) > 0.0).collect();
+        if starts.is_empty() {
+            return;
+        }
+        let to_goal = self.stn.slacks_to(self.goal_tp);
+        let to_deadlines = self.stn.slacks_to(ORIGIN);
+        // How much later the goal may be: up to the old steps' end.
+        let budget = (old.makespan + EPS - self.stn.est(self.goal_tp)).max(0.0);
+        starts.retain(|&(tp, t)| {
+            let late = late(self, tp, t);
+            late <= to_goal[tp as usize] + budget && late < to_deadlines[tp as usize]
+        });
+        starts.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        for (tp, t) in starts {
+            let kept = self.stn.add(ORIGIN, tp, t);
+            debug_assert!(kept, "a start within its slacks is consistent");
+        }
     }
 
     /// Whether `a` is (a descendant of) `ancestor`.

@@ -392,6 +392,15 @@ impl Stn {
         Slacks::new(self, target).slack(from, bound)
     }
 
+    /// Every point's slack towards `target` ([`Stn::slack_to`] of each, with
+    /// no bound), from one search backwards from it.
+    pub fn slacks_to(&self, target: Tp) -> Vec<f64> {
+        if target as usize >= self.len() {
+            return vec![f64::INFINITY; self.len()];
+        }
+        Slacks::new(self, target).backwards()
+    }
+
     /// Adds `a < b` to the closure: every point at or after `b` gets `a`
     /// and what precedes `a`. (Rows of predecessors: new steps mostly come
     /// after the plan's others, and a point late in the plan has few

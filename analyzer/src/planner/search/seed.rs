@@ -175,12 +175,18 @@ impl Search<'_, '_> {
                 times.0.insert(step.start, self.task.tils[t as usize].time);
             }
         }
+        let mut old = crate::planner::plan::OldSchedule::default();
         for (i, &s) in id.iter().enumerate() {
             of_seed[s as usize] = Some(i);
             let step = p.steps[s as usize];
             times.0.insert(step.start, seed.steps[i].start);
             times.0.insert(step.end, seed.steps[i].end);
+            if !seed.steps[i].fixed && !self.task.ops[seed.steps[i].op as usize].is_abstract {
+                old.starts.push((step.start, seed.steps[i].start));
+            }
+            old.makespan = old.makespan.max(seed.steps[i].end);
         }
+        p.old_times = std::rc::Rc::new(old);
         // Fixed times, nothing else before now, then the orderings kept.
         if let Some(now) = seed.now.filter(|&t| t > 0.0) {
             p.not_before = now;
