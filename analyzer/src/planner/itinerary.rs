@@ -66,7 +66,7 @@ pub struct Tail {
 }
 
 /// The pending visits of one itinerary: open links, by index.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Pending {
     pub group: u32,
     pub scope: u32,
@@ -199,6 +199,47 @@ impl Geo {
                 None => out.push(Pending { group: g, scope, visits: vec![i] }),
             }
         }
+        out
+    }
+
+    /// [`Geo::pending`] of `after`, a plan made from `before` (with
+    /// `pending`) by removing its open links `removed` (ascending) and
+    /// appending others, as [`Geo::visit`] makes one: the indices moved,
+    /// and only the appended open links read. An itinerary's scope does not
+    /// change (it is the steps' hierarchy), and the itineraries stay in the
+    /// order of their first visit.
+    pub fn pending_after(
+        &self,
+        task: &Task<'_>,
+        before: usize,
+        after: &Plan,
+        pending: &[Pending],
+        removed: &[usize],
+    ) -> Vec<Pending> {
+        let moved = |i: usize| i - removed.partition_point(|&r| r < i);
+        let mut out: Vec<Pending> = pending
+            .iter()
+            .map(|b| Pending {
+                group: b.group,
+                scope: b.scope,
+                visits: b
+                    .visits
+                    .iter()
+                    .filter(|&i| removed.binary_search(i).is_err())
+                    .map(|&i| moved(i))
+                    .collect(),
+            })
+            .filter(|b| !b.visits.is_empty())
+            .collect();
+        for (i, o) in after.open.iter().enumerate().skip(before - removed.len()) {
+            let Some((g, _)) = Geo::position(task, o.lit) else { continue };
+            let scope = self.scope(after, o, g);
+            match out.iter_mut().find(|b| b.group == g && b.scope == scope) {
+                Some(b) => b.visits.push(i),
+                None => out.push(Pending { group: g, scope, visits: vec![i] }),
+            }
+        }
+        out.sort_by_key(|b| b.visits[0]);
         out
     }
 

@@ -299,8 +299,11 @@ impl Search<'_, '_> {
         // Each itinerary is replayed until it breaks; a visit is linked at
         // most once, so this ends.
         let mut broken: Vec<(u32, u32)> = Vec::new();
+        // The pending visits, kept up to date after each visit rather than
+        // read again from every open link (a replay visits about as many
+        // times as the plan has open links).
+        let mut pending = geo.pending(self.task, p);
         loop {
-            let pending = geo.pending(self.task, p);
             let mut c = p.clone();
             if !geo.unblock(self.task, &mut c, &pending) {
                 return;
@@ -342,8 +345,24 @@ impl Search<'_, '_> {
                 break;
             }
             let Some((b, ti, i)) = next else { return };
+            // The open links the visit links: those of its step to the same place.
+            let o = p.open[i];
+            let same: Vec<usize> = b
+                .visits
+                .iter()
+                .copied()
+                .filter(|&j| p.open[j].step == o.step && p.open[j].lit == o.lit)
+                .collect();
             match geo.visit(self.task, self.h, p, &b, ti, i) {
-                Some(c) => *p = c,
+                Some(c) => {
+                    pending = geo.pending_after(self.task, p.open.len(), &c, &pending, &same);
+                    debug_assert_eq!(
+                        pending,
+                        geo.pending(self.task, &c),
+                        "the pending visits kept up to date"
+                    );
+                    *p = c;
+                }
                 None => broken.push((b.group, b.scope)),
             }
         }
