@@ -283,10 +283,20 @@ impl Stn {
                 None => out.push(Edge { to: b, w }),
             }
         }
+        // The earliest times first: an ordering that makes the network
+        // inconsistent is found there, and its plan dropped, before the
+        // closure's rows are updated (in a repair, a third of the time
+        // that updates took went to such orderings). Propagation needs no
+        // closure that holds the new ordering: it takes the raised points
+        // by their number of predecessors, and among points after `b` the
+        // ordering changes neither which precedes which nor that order.
+        if !self.propagate(a, b, w) {
+            return false;
+        }
         if w >= 0.0 {
             self.close(a, b);
         }
-        self.propagate(a, b, w)
+        true
     }
 
     /// Whether `t_b ≥ t_a + w` can be added and keep the network
