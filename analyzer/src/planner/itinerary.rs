@@ -243,6 +243,41 @@ impl Geo {
         out
     }
 
+    /// Bounds the pending visits of the itineraries `extended` (with the
+    /// step of the last visit of each) after their tails, at least the
+    /// travel time later, as [`Geo::visit`] does after each visit: for a
+    /// caller that made several visits without (the bounds from the tails
+    /// it passed are implied by the moves and visits since, whose durations
+    /// are at least the travel times). `false` when the plan cannot take
+    /// them.
+    pub fn bound_pending(
+        &self,
+        task: &Task<'_>,
+        p: &mut Plan,
+        pending: &[Pending],
+        extended: &[((u32, u32), u32)],
+    ) -> bool {
+        for b in pending {
+            let Some(&(_, last)) = extended.iter().find(|(k, _)| *k == (b.group, b.scope)) else { continue };
+            let (Some(t), Some(m)) = (tail(p, b.group, b.scope), task.motion[b.group as usize].as_ref())
+            else {
+                continue;
+            };
+            for &j in &b.visits {
+                let q = p.open[j];
+                if q.step == last {
+                    continue;
+                }
+                let Some((_, qpos)) = Geo::position(task, q.lit) else { continue };
+                let d = if t.pos == NONE { 0.0 } else { m.dist(t.pos as usize, qpos as usize) };
+                if !(d.is_finite() && p.stn.add(t.release, q.need, d + sep(&q))) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
     /// A new visit starts after its itinerary's tail, at least the shortest
     /// travel time later (4.3.2). `false` when it cannot (the plan is dead).
     pub fn bound(&self, task: &Task<'_>, p: &mut Plan, o: &Open) -> bool {
@@ -346,13 +381,17 @@ impl Geo {
             if !d.is_finite() || (d > 0.0 && b.scope != NONE) {
                 continue;
             }
-            if let Some(c) = self.visit(task, h, p, b, ti, i) {
+            if let Some(c) = self.visit(task, h, p, b, ti, i, true) {
                 out.push(c);
             }
         }
     }
 
-    /// `p` with visit `i` next in itinerary `b` (tail `ti`).
+    /// `p` with visit `i` next in itinerary `b` (tail `ti`); with `bound`,
+    /// every other pending visit of `b` after the new tail, at least the
+    /// travel time later (without, the caller bounds them later:
+    /// [`Geo::bound_pending`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn visit(
         &self,
         task: &Task<'_>,
@@ -361,6 +400,7 @@ impl Geo {
         b: &Pending,
         ti: usize,
         i: usize,
+        bound: bool,
     ) -> Option<Plan> {
         let t = p.tails[ti];
         let m = task.motion[b.group as usize].as_ref()?;
@@ -430,7 +470,7 @@ impl Geo {
             None => Tail { producer: prod, producer_tp: prod_tp, pos, release, blocked_by: NONE, ..t },
         };
         // Every other pending visit comes after it.
-        for &j in &b.visits {
+        for &j in b.visits.iter().filter(|_| bound) {
             let q = p.open[j];
             if q.step == o.step {
                 continue;

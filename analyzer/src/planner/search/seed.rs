@@ -295,22 +295,51 @@ impl Search<'_, '_> {
     /// and an itinerary the event did not break costs no search at all.
     fn replay_itineraries(&self, p: &mut Plan, times: &OldTimes) {
         let Some(geo) = &self.geo else { return };
+        // The visits do not bound the pending ones after each new tail
+        // (a robot with a hundred old visits would get five thousand
+        // orderings, most of the network's): the tails reached bound them
+        // at the end, which implies the others.
+        // Should the plan not take them, the replay starts again with the
+        // bounds after each visit, as the search makes them, and the
+        // itinerary that cannot take its bounds stops there.
+        let start = p.clone();
+        let mut extended: Vec<((u32, u32), u32)> = Vec::new();
+        let mut pending = geo.pending(self.task, p);
+        self.replay(geo, p, times, &mut pending, &mut extended, false);
+        if !geo.bound_pending(self.task, p, &pending, &extended) {
+            *p = start;
+            let mut pending = geo.pending(self.task, p);
+            self.replay(geo, p, times, &mut pending, &mut Vec::new(), true);
+        }
+    }
+
+    /// The loop of [`Search::replay_itineraries`], which records the
+    /// itineraries extended and their last visits' steps; `bound`: as
+    /// [`Geo::visit`]'s.
+    fn replay(
+        &self,
+        geo: &Geo,
+        p: &mut Plan,
+        times: &OldTimes,
+        pending: &mut Vec<itinerary::Pending>,
+        extended: &mut Vec<((u32, u32), u32)>,
+        bound: bool,
+    ) {
         let old = |p: &Plan, i: usize| times.at(p.open[i].need).filter(|t| t.is_finite());
         // Each itinerary is replayed until it breaks; a visit is linked at
         // most once, so this ends.
         let mut broken: Vec<(u32, u32)> = Vec::new();
-        // The pending visits, kept up to date after each visit rather than
-        // read again from every open link (a replay visits about as many
-        // times as the plan has open links).
-        let mut pending = geo.pending(self.task, p);
+        // The pending visits are kept up to date after each visit rather
+        // than read again from every open link (a replay visits about as
+        // many times as the plan has open links).
         loop {
             let mut c = p.clone();
-            if !geo.unblock(self.task, &mut c, &pending) {
+            if !geo.unblock(self.task, &mut c, pending) {
                 return;
             }
             *p = c;
             let mut next = None;
-            for b in &pending {
+            for b in pending.iter() {
                 if broken.contains(&(b.group, b.scope)) {
                     continue;
                 }
@@ -353,15 +382,20 @@ impl Search<'_, '_> {
                 .copied()
                 .filter(|&j| p.open[j].step == o.step && p.open[j].lit == o.lit)
                 .collect();
-            match geo.visit(self.task, self.h, p, &b, ti, i) {
+            match geo.visit(self.task, self.h, p, &b, ti, i, bound) {
                 Some(c) => {
-                    pending = geo.pending_after(self.task, p.open.len(), &c, &pending, &same);
+                    *pending = geo.pending_after(self.task, p.open.len(), &c, pending, &same);
                     debug_assert_eq!(
-                        pending,
+                        *pending,
                         geo.pending(self.task, &c),
                         "the pending visits kept up to date"
                     );
                     *p = c;
+                    let key = (b.group, b.scope);
+                    match extended.iter_mut().find(|(k, _)| *k == key) {
+                        Some(e) => e.1 = o.step,
+                        None => extended.push((key, o.step)),
+                    }
                 }
                 None => broken.push((b.group, b.scope)),
             }
