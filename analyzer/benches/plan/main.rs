@@ -72,8 +72,9 @@ OPTIONS:
     --time-limit S      search time limit per problem, seconds (default 60; per run, 10
                         for survivors-repair)
     --jobs N            problems planned at once, each in its own process (default 1)
-    --repeat N          survivors-repair: runs of each repair and replan, each in its
-                        own process; the run of median time is reported (default 3)
+    --repeat N          survivors-repair: runs of each repair, repairFlat and replan,
+                        each in its own process, the three of an event taking turns;
+                        the run of median time is reported (default 5)
     --out FILE.md       the report (default target/plan-bench.md; the repair suites:
                         target/repair-bench.md); the CSV is FILE.csv
     --per-domain N      hddl: only the first N problems of each domain
@@ -148,7 +149,7 @@ pub(crate) fn parse_args(raw: &[String]) -> Result<Args, String> {
         configs: None,
         time_limit: None,
         jobs: 1,
-        repeat: 3,
+        repeat: 5,
         out: None,
         per_domain: None,
         filter: None,

@@ -169,20 +169,38 @@ fn parallel<T: Sync, R: Clone + Send + Default>(
     results.into_inner().unwrap().into_iter().map(|r| r.unwrap_or_default()).collect()
 }
 
-/// The repair run of `job`, `repeat` times, each in a child process: the
-/// run of median time (the plans found are the same; a run that does not
-/// solve is reported as it is).
-fn run_repair_median(job: &RJob, config: &str, limit: f64, plans: &Path, repeat: usize) -> RRun {
-    let mut runs = Vec::new();
+/// The runs of one event's jobs (repair, repairFlat, replan), `repeat`
+/// rounds of one run of each, each in a child process, and for each job
+/// the run of median time (the plans found are the same; a run that does
+/// not solve is reported as it is, and that job runs no more). The ways
+/// take turns so that a slow spell of the machine falls on all of them
+/// alike: run one after the other, five runs of one way could fall in a
+/// spell the next way's missed, and their ratio was off by half.
+fn run_event_median(group: &[RJob], config: &str, limit: f64, plans: &Path, repeat: usize) -> Vec<RRun> {
+    let mut runs: Vec<Vec<RRun>> = vec![Vec::new(); group.len()];
+    let mut last: Vec<Option<RRun>> = vec![None; group.len()];
     for _ in 0..repeat {
-        let r = run_repair_child(job, config, limit, plans);
-        if !r.solved() || r.invalid() {
-            return r;
+        for (k, job) in group.iter().enumerate() {
+            if last[k].is_some() {
+                continue;
+            }
+            let r = run_repair_child(job, config, limit, plans);
+            if !r.solved() || r.invalid() {
+                last[k] = Some(r);
+            } else {
+                runs[k].push(r);
+            }
         }
-        runs.push(r);
     }
-    runs.sort_by(|a, b| a.wall.total_cmp(&b.wall));
-    runs.swap_remove(runs.len() / 2)
+    runs.into_iter()
+        .zip(last)
+        .map(|(mut rs, last)| {
+            last.unwrap_or_else(|| {
+                rs.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+                rs.swap_remove(rs.len() / 2)
+            })
+        })
+        .collect()
 }
 
 /// The repair run of `job` in a child process.
@@ -312,28 +330,45 @@ pub(crate) fn run(a: &Args, raw: &[String]) -> ExitCode {
             let _ = writeln!(f, "{}", report::csv_initial(j, r));
         }
     }
+    // The jobs of one event are consecutive (its three ways): they run
+    // together, in turns.
+    let groups: Vec<&[RJob]> = jobs.chunk_by(|x, y| x.problem == y.problem && x.event == y.event).collect();
+    let total = jobs.len();
+    let first_of: Vec<usize> = groups
+        .iter()
+        .scan(0, |n, g| {
+            let i = *n;
+            *n += g.len();
+            Some(i)
+        })
+        .collect();
     let runs: Vec<RRun> = parallel(
         a.jobs,
-        &jobs,
-        |j| run_repair_median(j, &config, limit, &plans, a.repeat),
-        |i, j, r| {
-            eprintln!(
-                "[{:>3}/{}] {} {} {}: {} in {}{}{}",
-                i + 1,
-                jobs.len(),
-                j.problem,
-                j.event,
-                j.mode.name(),
-                if r.invalid() { "SOLVED, INVALID PLAN".to_string() } else { r.status.clone() },
-                secs(Some(r.wall)),
-                r.stage.as_ref().map(|s| format!(" ({s})")).unwrap_or_default(),
-                r.instability.map(|i| format!(", instability {i}")).unwrap_or_default(),
-            );
-            if let Some(f) = csv.lock().unwrap().as_mut() {
-                let _ = writeln!(f, "{}", report::csv_line(j, r));
+        &groups,
+        |g| run_event_median(g, &config, limit, &plans, a.repeat),
+        |gi, g, rs| {
+            for (k, (j, r)) in g.iter().zip(rs).enumerate() {
+                eprintln!(
+                    "[{:>3}/{}] {} {} {}: {} in {}{}{}",
+                    first_of[gi] + k + 1,
+                    total,
+                    j.problem,
+                    j.event,
+                    j.mode.name(),
+                    if r.invalid() { "SOLVED, INVALID PLAN".to_string() } else { r.status.clone() },
+                    secs(Some(r.wall)),
+                    r.stage.as_ref().map(|s| format!(" ({s})")).unwrap_or_default(),
+                    r.instability.map(|i| format!(", instability {i}")).unwrap_or_default(),
+                );
+                if let Some(f) = csv.lock().unwrap().as_mut() {
+                    let _ = writeln!(f, "{}", report::csv_line(j, r));
+                }
             }
         },
-    );
+    )
+    .into_iter()
+    .flatten()
+    .collect();
     let watched = a.suites.iter().any(|s| s == SUITES[1]).then(|| surveillance::run(&config, limit));
     // The CSV again, in order.
     let mut text = format!("{}\n", report::CSV_HEAD);

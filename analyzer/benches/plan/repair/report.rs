@@ -284,7 +284,7 @@ pub(crate) fn report(ctx: &Context) -> String {
     );
     let _ = writeln!(
         out,
-        "- configuration {}; time limit {} s per run (the repair's stages share it: each search gets at most a quarter of it, the full replan what is left); {} job{} at once, each run in its own process; each repair, repairFlat and replan of an event runs {} time{}, and the run of median time is reported (the plans are the same)",
+        "- configuration {}; time limit {} s per run (the repair's stages share it: each search gets at most a quarter of it, the full replan what is left); {} job{} at once, each run in its own process; each repair, repairFlat and replan of an event runs {} time{}, the three taking turns (a slow spell of the machine falls on all three alike), and the run of median time is reported (the plans are the same)",
         ctx.config,
         ctx.limit,
         a.jobs,
