@@ -96,7 +96,9 @@ enum Command {
     /// executed, in any format hipop reads. Stage 1 removes the steps the
     /// new problem cannot have and those that support nothing; later stages
     /// remove rings of steps around them; abstract steps are un-refined as a
-    /// whole (docs/repair.md). The report (standard error) gives each stage,
+    /// whole (docs/repair.md). The steps that stay keep their old times
+    /// where that delays the plan's end no further than the old steps ended
+    /// and breaks no deadline. The report (standard error) gives each stage,
     /// the steps removed and why, and the stability figures of `hipop diff`.
     ///
     /// Exit status: 0 repaired, 1 no plan even after the full replan, 3 a
