@@ -263,16 +263,9 @@ impl Geo {
             else {
                 continue;
             };
-            for &j in &b.visits {
-                let q = p.open[j];
-                if q.step == last {
-                    continue;
-                }
-                let Some((_, qpos)) = Geo::position(task, q.lit) else { continue };
-                let d = if t.pos == NONE { 0.0 } else { m.dist(t.pos as usize, qpos as usize) };
-                if !(d.is_finite() && p.stn.add(t.release, q.need, d + sep(&q))) {
-                    return false;
-                }
+            let others: Vec<Open> = b.visits.iter().map(|&j| p.open[j]).filter(|q| q.step != last).collect();
+            if !bound_after(task, m, &mut p.stn, &t, others.into_iter()) {
+                return false;
             }
         }
         true
@@ -470,14 +463,9 @@ impl Geo {
             None => Tail { producer: prod, producer_tp: prod_tp, pos, release, blocked_by: NONE, ..t },
         };
         // Every other pending visit comes after it.
-        for &j in b.visits.iter().filter(|_| bound) {
-            let q = p.open[j];
-            if q.step == o.step {
-                continue;
-            }
-            let (_, qpos) = Geo::position(task, q.lit)?;
-            let d = if new.pos == NONE { 0.0 } else { m.dist(new.pos as usize, qpos as usize) };
-            if !(d.is_finite() && c.stn.add(new.release, q.need, d + sep(&q))) {
+        if bound {
+            let others = b.visits.iter().map(|&j| p.open[j]).filter(|q| q.step != o.step);
+            if !bound_after(task, m, &mut c.stn, &new, others) {
                 return None;
             }
         }
@@ -534,6 +522,27 @@ impl Geo {
 /// The separation between a member's last visit and the next: none before
 /// an abstract step's own effect, which holds as soon as the subtask that
 /// makes it ends (the same happening as the step's end).
+/// Bounds `visits` (open links of positions of `m`'s member) after tail
+/// `t`: each at least the travel time from the tail's position later (no
+/// time while the tail's position is not known). `false` when the network
+/// cannot take one.
+fn bound_after(
+    task: &Task<'_>,
+    m: &super::task::MotionGroup,
+    stn: &mut super::stn::Stn,
+    t: &Tail,
+    visits: impl Iterator<Item = Open>,
+) -> bool {
+    for q in visits {
+        let Some((_, qpos)) = Geo::position(task, q.lit) else { return false };
+        let d = if t.pos == NONE { 0.0 } else { m.dist(t.pos as usize, qpos as usize) };
+        if !(d.is_finite() && stn.add(t.release, q.need, d + sep(&q))) {
+            return false;
+        }
+    }
+    true
+}
+
 fn sep(o: &Open) -> f64 {
     if o.origin == OpenOrigin::AbstractEffect { 0.0 } else { EPS }
 }
