@@ -14,7 +14,8 @@ impl Search<'_, '_> {
     /// h of a plan, and the effort.
     pub(super) fn estimate(&self, p: &Plan) -> (f64, f64) {
         let (mut h, mut effort) = (0.0, 0.0);
-        let index = EffectIndex::new(self.task, p);
+        let wanted = p.open.iter().filter(|o| !self.is_visit(o)).flat_map(|o| [o.lit, o.lit ^ 1]);
+        let index = EffectIndex::new(self.task, p, wanted);
         for o in p.open.iter() {
             if self.is_visit(o) {
                 effort += 1.0;
@@ -170,17 +171,24 @@ impl Search<'_, '_> {
     }
 }
 
-/// The effects of a plan's steps, by literal: built once per plan for its estimate.
+/// The effects of a plan's steps on the literals its estimate asks about:
+/// built once per plan. (Every literal's would cost a child of a plan of
+/// 600 steps thousands of entries for the few its open links need.)
 pub(super) struct EffectIndex {
     by_lit: rustc_hash::FxHashMap<Lit, Vec<Tp>>,
 }
 
 impl EffectIndex {
-    pub(super) fn new(task: &Task<'_>, p: &Plan) -> EffectIndex {
-        let mut by_lit: rustc_hash::FxHashMap<Lit, Vec<Tp>> = rustc_hash::FxHashMap::default();
+    pub(super) fn new(task: &Task<'_>, p: &Plan, wanted: impl Iterator<Item = Lit>) -> EffectIndex {
+        let mut by_lit: rustc_hash::FxHashMap<Lit, Vec<Tp>> = wanted.map(|l| (l, Vec::new())).collect();
+        if by_lit.is_empty() {
+            return EffectIndex { by_lit };
+        }
         for s in 0..p.steps.len() as u32 {
             for (l, tp) in p.effects(task, s) {
-                by_lit.entry(l).or_default().push(tp);
+                if let Some(v) = by_lit.get_mut(&l) {
+                    v.push(tp);
+                }
             }
         }
         EffectIndex { by_lit }
