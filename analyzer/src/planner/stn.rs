@@ -205,7 +205,16 @@ pub struct Stn {
     est: PVec<f64>,
     out: PVec<Rc<Vec<Edge>>>,
     pred: PVec<Rc<Vec<u64>>>,
+    /// Orderings of the closure not yet in its rows, in the order they
+    /// came ([`Stn::flush`]); [`Stn::before`] takes them into account.
+    pending: Vec<(Tp, Tp)>,
+    /// Whether new orderings wait ([`Stn::defer`]).
+    deferring: bool,
 }
+
+/// At most this many orderings wait for the closure's rows
+/// ([`Stn::before`] takes a time quadratic in their number).
+const PENDING: usize = 8;
 
 impl Default for Stn {
     fn default() -> Self {
@@ -216,7 +225,13 @@ impl Default for Stn {
 impl Stn {
     /// A network with the origin only.
     pub fn new() -> Stn {
-        let mut s = Stn { est: PVec::new(), out: PVec::new(), pred: PVec::new() };
+        let mut s = Stn {
+            est: PVec::new(),
+            out: PVec::new(),
+            pred: PVec::new(),
+            pending: Vec::new(),
+            deferring: false,
+        };
         s.add_point();
         s
     }
@@ -247,17 +262,79 @@ impl Stn {
         self.out.get(t as usize).map_or(&[], |v| v.as_slice())
     }
 
-    /// Whether `b` is at or after `a` in every solution (by the closure).
+    /// Whether `b` is at or after `a` in every solution (by the closure):
+    /// by the rows, or by a path through the orderings not in them yet.
+    #[inline]
     pub fn before(&self, a: Tp, b: Tp) -> bool {
-        let row = &self.pred[b as usize];
-        row.get(a as usize / 64).is_some_and(|w| w >> (a % 64) & 1 == 1)
+        self.in_row(a, b) || (!self.pending.is_empty() && self.before_by_pending(a, b))
+    }
+
+    /// [`Stn::before`] by a path through the orderings that wait.
+    #[inline(never)]
+    fn before_by_pending(&self, a: Tp, b: Tp) -> bool {
+        let p = &self.pending;
+        // `x` at or before `y` by the rows.
+        let upto = |x: Tp, y: Tp| x == y || self.in_row(x, y);
+        let mut seen = 0u32;
+        let mut stack: Vec<usize> = Vec::new();
+        for (i, &(from, _)) in p.iter().enumerate() {
+            if upto(a, from) {
+                seen |= 1 << i;
+                stack.push(i);
+            }
+        }
+        while let Some(i) = stack.pop() {
+            let to = p[i].1;
+            if upto(to, b) {
+                return true;
+            }
+            for (j, &(from, _)) in p.iter().enumerate() {
+                if seen >> j & 1 == 0 && upto(to, from) {
+                    seen |= 1 << j;
+                    stack.push(j);
+                }
+            }
+        }
+        false
     }
 
     /// The closure's row of `b`: bit `a` is set when `b` is after `a` in
     /// every solution ([`Stn::before`] of a whole row, for a caller that
-    /// asks about many points before `b`).
+    /// asks about many points before `b`). No ordering may wait
+    /// ([`Stn::flush`]).
     pub fn predecessors(&self, b: Tp) -> &[u64] {
+        debug_assert!(self.pending.is_empty(), "orderings wait for the closure's rows");
         self.pred.get(b as usize).map_or(&[], |r| r.as_slice())
+    }
+
+    /// Whether the closure's row of `b` holds `a`.
+    #[inline]
+    fn in_row(&self, a: Tp, b: Tp) -> bool {
+        self.pred
+            .get(b as usize)
+            .and_then(|row| row.get(a as usize / 64))
+            .is_some_and(|w| w >> (a % 64) & 1 == 1)
+    }
+
+    /// From now on, and in the clones made from now on, an ordering into
+    /// points with successors waits apart from the closure's rows until
+    /// [`Stn::flush`]. The search defers the orderings of the children of
+    /// a plan it expands, and writes them when it expands a child: most
+    /// children are never expanded, and in a plan holding every step of an
+    /// old plan (a repair), the rows an ordering changes are those of
+    /// every point after it. (Elsewhere, as when a start plan is built,
+    /// [`Stn::before`] would pay for the orderings that wait.)
+    pub fn defer(&mut self) {
+        self.deferring = true;
+    }
+
+    /// Writes the orderings that wait into the closure's rows, and stops
+    /// deferring.
+    pub fn flush(&mut self) {
+        self.deferring = false;
+        for (a, b) in std::mem::take(&mut self.pending) {
+            self.close_rows(a, b);
+        }
     }
 
     /// Whether `t_b ≥ t_a + w` already holds in the closure's sense: `b` is
@@ -419,6 +496,23 @@ impl Stn {
         if self.before(a, b) {
             return;
         }
+        // Nothing after `b` yet (a new step's own points): its row alone
+        // changes, and it is the child's.
+        if !self.deferring || self.edges(b).iter().all(|e| e.w < 0.0) {
+            self.close_rows(a, b);
+            return;
+        }
+        self.pending.push((a, b));
+        if self.pending.len() >= PENDING {
+            self.flush();
+        }
+    }
+
+    /// [`Stn::close`] in the rows (no ordering waits).
+    fn close_rows(&mut self, a: Tp, b: Tp) {
+        if self.in_row(a, b) {
+            return;
+        }
         let mut add: Vec<u64> = self.pred[a as usize].as_ref().clone();
         let (word, bit) = (a as usize / 64, a % 64);
         if add.len() <= word {
@@ -433,7 +527,7 @@ impl Stn {
         // a point updated is after `a`, so none is updated twice.
         let mut stack = vec![b];
         while let Some(y) = stack.pop() {
-            if self.before(a, y) {
+            if self.in_row(a, y) {
                 continue;
             }
             let row = Rc::make_mut(self.pred.get_mut(y as usize).expect("in bounds"));
@@ -547,12 +641,16 @@ mod tests {
 
     /// The closure is reachability along the edges of non-negative
     /// weight, after every change of random networks (constraints that
-    /// fail leave the network as it was: the clone is dropped).
+    /// fail leave the network as it was: the clone is dropped), with
+    /// orderings waiting for the rows and written at random times.
     #[test]
     fn the_closure_is_reachability_along_non_negative_edges() {
         let mut next = below(0x2545_f491_4f6c_dd1d);
         for _ in 0..300 {
             let mut s = Stn::new();
+            if next(4) != 0 {
+                s.defer();
+            }
             let n = 2 + next(25) as usize;
             let pts: Vec<Tp> = (0..n).map(|_| s.add_point()).collect();
             for _ in 0..next(50) {
@@ -565,6 +663,11 @@ mod tests {
                 let mut t = s.clone();
                 if t.add(a, b, w) {
                     s = t;
+                }
+                // The search writes a plan's waiting orderings when it
+                // expands it: at any time, and a network is cloned after.
+                if next(4) == 0 {
+                    s.flush();
                 }
                 for x in 0..s.len() as Tp {
                     let mut reach = vec![false; s.len()];
@@ -579,6 +682,9 @@ mod tests {
                     for y in 0..s.len() as Tp {
                         if y != x {
                             assert_eq!(s.before(x, y), reach[y as usize], "{x} before {y}");
+                            if s.pending.is_empty() {
+                                assert_eq!(s.in_row(x, y), reach[y as usize], "{x} before {y} in the rows");
+                            }
                         }
                     }
                 }

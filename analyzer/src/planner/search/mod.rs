@@ -171,12 +171,17 @@ impl<'a, 'db> Search<'a, 'db> {
                 }
                 stack.pop();
             };
+            p.stn.flush();
+            p.stn.defer();
             spent += 1;
             stats.expanded += 1;
             if spent > budget || (spent.is_multiple_of(32) && deadline()) {
                 return None;
             }
-            let Some(flaw) = self.select(&mut p) else { return Some(p) };
+            let Some(flaw) = self.select(&mut p) else {
+                p.stn.flush();
+                return Some(p);
+            };
             let mut scored = self.expand(&p, flaw, stats, &mut |_| {});
             scored.sort_by(Scored::probe_order);
             stack.push(scored.into_iter().map(|x| x.plan).collect::<Vec<_>>().into_iter());
@@ -224,6 +229,8 @@ impl<'a, 'db> Search<'a, 'db> {
         let mut next_milestone: u64 = 1024;
         while let Some(node) = heap.pop() {
             let mut plan = node.plan;
+            plan.stn.flush();
+            plan.stn.defer();
             stats.expanded += 1;
             stats.open = heap.len();
             stats.peak_open = stats.peak_open.max(heap.len());
@@ -264,6 +271,7 @@ impl<'a, 'db> Search<'a, 'db> {
             }
             let Some(flaw) = self.select(&mut plan) else {
                 stats.elapsed = started.elapsed();
+                plan.stn.flush();
                 return End2::Solved(Box::new(plan));
             };
             let completes = Self::completes(&flaw);
