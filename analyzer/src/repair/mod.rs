@@ -1001,7 +1001,8 @@ impl<'p, 'db> Repair<'p, 'db> {
     /// time points are the phantom links of later stages. Returns that
     /// start plan.
     fn learn_old_order(&mut self) -> Option<StartPlan> {
-        let (plan, of_seed, kept) = self.start_plan()?;
+        let (mut plan, of_seed, kept) = self.start_plan()?;
+        plan.stn.flush();
         let mut tps: Vec<(usize, End, Tp)> = Vec::new();
         for (s, k) in of_seed.iter().enumerate() {
             let Some(k) = *k else { continue };
@@ -1012,12 +1013,18 @@ impl<'p, 'db> Repair<'p, 'db> {
             }
         }
         let points = tps.iter().map(|&(a, e, _)| (a, e)).collect();
-        let rows: Vec<&[u64]> = tps.iter().map(|t| plan.stn.predecessors(t.2)).collect();
+        let mut of_tp = vec![usize::MAX; plan.stn.len()];
+        for (k, t) in tps.iter().enumerate() {
+            of_tp[t.2 as usize] = k;
+        }
         self.phantoms = order::OldOrder::new(
             points,
-            |i, j| {
-                let a = tps[i].2 as usize;
-                rows[j].get(a / 64).is_some_and(|w| w >> (a % 64) & 1 == 1)
+            |j| {
+                let row = plan.stn.predecessors(tps[j].2);
+                let bits = row.iter().enumerate().flat_map(|(w, &word)| {
+                    (0..64).filter(move |b| word >> b & 1 == 1).map(move |b| w * 64 + b)
+                });
+                bits.filter_map(|tp| of_tp.get(tp).copied().filter(|&k| k != usize::MAX)).collect()
             },
             |i| plan.stn.est(tps[i].2),
         );

@@ -19,41 +19,54 @@ pub struct OldOrder {
 }
 
 impl OldOrder {
-    /// The order of `points`: `before(i, j)` when point `j` is at or after
-    /// point `i` in every schedule (`i != j`); `time(i)` a time that puts
-    /// them in an order compatible with it (the earliest schedule's).
+    /// The order of `points`: `before(j)` gives the points `i` that point
+    /// `j` is at or after in every schedule (`i != j`); `time(i)` a time
+    /// that puts them in an order compatible with it (the earliest
+    /// schedule's).
     pub fn new(
         points: Vec<(usize, End)>,
-        before: impl Fn(usize, usize) -> bool,
+        before: impl Fn(usize) -> Vec<usize>,
         time: impl Fn(usize) -> f64,
     ) -> OldOrder {
         let n = points.len();
         let words = n.div_ceil(64);
+        // Rows and sets by rank in time order: the successors of a point,
+        // in that order, are its set bits from the lowest.
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| time(a).total_cmp(&time(b)).then(a.cmp(&b)));
+        let mut rank = vec![0; n];
+        for (r, &i) in order.iter().enumerate() {
+            rank[i] = r;
+        }
         let mut rows = vec![0u64; n * words];
-        for i in 0..n {
-            for j in 0..n {
-                if i != j && before(i, j) {
-                    rows[i * words + j / 64] |= 1 << (j % 64);
+        for (rj, &j) in order.iter().enumerate() {
+            for i in before(j) {
+                if i != j {
+                    rows[rank[i] * words + rj / 64] |= 1 << (rj % 64);
                 }
             }
         }
-        let has = |rows: &[u64], i: usize, j: usize| rows[i * words + j / 64] >> (j % 64) & 1 == 1;
-        let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by(|&a, &b| time(a).total_cmp(&time(b)).then(a.cmp(&b)));
         let mut next: Vec<Vec<u32>> = vec![Vec::new(); n];
         let mut covered = vec![0u64; words];
-        for (i, next) in next.iter_mut().enumerate() {
+        for (ri, &i) in order.iter().enumerate() {
             covered.fill(0);
             // The successors in time order: one not after an earlier one
             // taken is just after `i`.
-            for &j in &order {
-                if !has(&rows, i, j) || covered[j / 64] >> (j % 64) & 1 == 1 {
-                    continue;
-                }
-                next.push(j as u32);
-                covered[j / 64] |= 1 << (j % 64);
-                for w in 0..words {
-                    covered[w] |= rows[j * words + w];
+            for w in 0..words {
+                let mut from = 0u64;
+                loop {
+                    let bits = rows[ri * words + w] & !covered[w] & !from;
+                    if bits == 0 {
+                        break;
+                    }
+                    let b = bits.trailing_zeros();
+                    let rj = w * 64 + b as usize;
+                    next[i].push(order[rj] as u32);
+                    for (c, r) in covered.iter_mut().zip(&rows[rj * words..(rj + 1) * words]) {
+                        *c |= r;
+                    }
+                    // This bit and those below it are done.
+                    from = if b == 63 { u64::MAX } else { (2u64 << b) - 1 };
                 }
             }
         }
@@ -152,7 +165,11 @@ mod tests {
                     }
                 }
             }
-            let order = OldOrder::new(points.clone(), |i, j| before[i][j], |i| rank[i] as f64);
+            let order = OldOrder::new(
+                points.clone(),
+                |j| (0..n).filter(|&i| before[i][j]).collect(),
+                |i| rank[i] as f64,
+            );
             let removed: Vec<bool> = (0..steps).map(|_| rng.below(3) == 0).collect();
             let mut index = vec![usize::MAX; steps];
             let mut k = 0;
