@@ -302,6 +302,18 @@ impl Analysis {
         self.with_db(|db| crate::ide::references(db, file, offset, include_declaration))
     }
 
+    pub fn document_highlights(
+        &self,
+        file: SourceFile,
+        offset: TextSize,
+    ) -> Cancellable<Vec<crate::ide::Highlight>> {
+        self.with_db(|db| crate::ide::document_highlights(db, file, offset))
+    }
+
+    pub fn folding_ranges(&self, file: SourceFile) -> Cancellable<Vec<crate::ide::Fold>> {
+        self.with_db(|db| crate::ide::folding_ranges(db, file))
+    }
+
     pub fn file_text(&self, file: SourceFile) -> Cancellable<Arc<str>> {
         self.with_db(|db| file.text(db).clone())
     }

@@ -195,10 +195,12 @@ proptest! {
         let a = host.analysis();
         a.diagnostics(f).unwrap();
         a.document_symbols(f).unwrap();
+        a.folding_ranges(f).unwrap();
         for p in probes {
             let at = TextSize::from(boundary(&text, p) as u32);
             a.hover(f, at).unwrap();
             a.references(f, at, true).unwrap();
+            a.document_highlights(f, at).unwrap();
         }
     }
 

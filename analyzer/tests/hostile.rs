@@ -213,12 +213,14 @@ fn exercise(model: &Model) -> (Vec<Diagnostic>, Vec<Diagnostic>) {
     analysis.diagnostics(plan).expect("not cancelled");
     for (file, text) in [(d, &model.domain), (p, &model.problem)] {
         analysis.document_symbols(file).expect("not cancelled");
+        analysis.folding_ranges(file).expect("not cancelled");
         // Every name of the innermost formula and around it.
         for at in (0..text.len()).step_by(7) {
             let at = TextSize::from(at as u32);
             analysis.hover(file, at).expect("not cancelled");
             analysis.goto_definition(file, at).expect("not cancelled");
             analysis.references(file, at, true).expect("not cancelled");
+            analysis.document_highlights(file, at).expect("not cancelled");
         }
     }
     analysis.validate_plan(plan, None, p, &Options::default()).expect("not cancelled");

@@ -1,6 +1,7 @@
 //! The requests, each computed on a snapshot (on a blocking thread, see
 //! `requests::run`): positions in, analyzer call, LSP results out.
 
+use hipop_analyzer::ide::FoldKind;
 use hipop_analyzer::{Cancellable, TextRange};
 use tower_lsp_server::ls_types as lsp;
 
@@ -42,6 +43,54 @@ pub(crate) fn references(
         locations.extend(files.location(target.file, target.range)?);
     }
     Ok(Some(locations))
+}
+
+/// The occurrences in the document of the name at `pos`: its declaration
+/// as a write, its uses as reads.
+pub(crate) fn document_highlights(
+    snap: &Snapshot,
+    pos: lsp::Position,
+) -> Cancellable<Option<Vec<lsp::DocumentHighlight>>> {
+    let file = snap.files().get(snap.file)?;
+    let highlights = snap.analysis.document_highlights(snap.file, file.offset(pos).into())?;
+    let highlights = highlights
+        .into_iter()
+        .map(|h| lsp::DocumentHighlight {
+            range: file.range(h.range),
+            kind: Some(if h.declaration {
+                lsp::DocumentHighlightKind::WRITE
+            } else {
+                lsp::DocumentHighlightKind::READ
+            }),
+        })
+        .collect();
+    Ok(Some(highlights))
+}
+
+/// Whole lines to fold: the lists and comment runs of the document, from
+/// the line they start on to the line they end on.
+pub(crate) fn folding_ranges(snap: &Snapshot) -> Cancellable<Option<Vec<lsp::FoldingRange>>> {
+    let file = snap.files().get(snap.file)?;
+    let mut out: Vec<lsp::FoldingRange> = Vec::new();
+    for fold in snap.analysis.folding_ranges(snap.file)? {
+        let range = file.range(fold.range);
+        let (start, end) = (range.start.line, range.end.line);
+        // Two lists opening on one line and closing on one (`(and (or`…
+        // `))`) fold the same lines: once is enough.
+        if end <= start || out.last().is_some_and(|f| f.start_line == start && f.end_line == end) {
+            continue;
+        }
+        out.push(lsp::FoldingRange {
+            start_line: start,
+            end_line: end,
+            kind: match fold.kind {
+                FoldKind::Comment => Some(lsp::FoldingRangeKind::Comment),
+                FoldKind::List => None,
+            },
+            ..lsp::FoldingRange::default()
+        });
+    }
+    Ok(Some(out))
 }
 
 /// The quick fixes of the diagnostics that touch `range`.

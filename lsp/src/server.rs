@@ -259,6 +259,22 @@ impl LanguageServer for Backend {
         requests::run(&self.session, uri, "references", move |s| features::references(s, pos, decl)).await
     }
 
+    async fn document_highlight(
+        &self,
+        params: DocumentHighlightParams,
+    ) -> Result<Option<Vec<DocumentHighlight>>> {
+        let at = params.text_document_position_params;
+        let pos = at.position;
+        let uri = &at.text_document.uri;
+        requests::run(&self.session, uri, "documentHighlight", move |s| features::document_highlights(s, pos))
+            .await
+    }
+
+    async fn folding_range(&self, params: FoldingRangeParams) -> Result<Option<Vec<FoldingRange>>> {
+        let uri = params.text_document.uri;
+        requests::run(&self.session, &uri, "foldingRange", features::folding_ranges).await
+    }
+
     async fn code_action(&self, params: CodeActionParams) -> Result<Option<CodeActionResponse>> {
         // Only quick fixes are offered; a client asking for other kinds gets none.
         if let Some(only) = &params.context.only

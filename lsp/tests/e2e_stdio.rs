@@ -98,6 +98,51 @@ fn a_full_session() {
     client.shutdown();
 }
 
+/// Document highlights are the occurrences in the document (the problem's
+/// are not), the declaration a write; folding ranges are the lists over
+/// several lines.
+#[test]
+fn document_highlights_and_folding_ranges() {
+    let mut client = Client::spawn();
+    let init = client.initialize(&fixture("blocks"), json!({}));
+    assert_eq!(init["capabilities"]["documentHighlightProvider"], true);
+    assert_eq!(init["capabilities"]["foldingRangeProvider"], true);
+    let (uri, text) = read("blocks/domain.pddl");
+    client.open(&uri, &text);
+    client.diagnostics(&uri, Some(1));
+
+    let highlights = client.request("textDocument/documentHighlight", at(&uri, 11, 26));
+    let write = 3;
+    let read = 2;
+    assert_eq!(
+        highlights,
+        json!([
+            {"range": range(6, 5, 6, 13), "kind": write},
+            {"range": range(11, 24, 11, 32), "kind": read},
+            {"range": range(12, 36, 12, 44), "kind": read},
+        ])
+    );
+    // Nothing to highlight on a parenthesis.
+    assert_eq!(client.request("textDocument/documentHighlight", at(&uri, 1, 0)), json!([]));
+
+    let folds = client.request("textDocument/foldingRange", json!({"textDocument": {"uri": uri}}));
+    assert_eq!(
+        folds,
+        json!([
+            {"startLine": 1, "endLine": 12},
+            {"startLine": 4, "endLine": 8},
+            {"startLine": 9, "endLine": 12},
+        ])
+    );
+    // A comment of three lines folds as a comment.
+    client.change(&uri, 2, range(0, 0, 0, 0), "; one\n; two\n");
+    client.diagnostics(&uri, Some(2));
+    let folds = client.request("textDocument/foldingRange", json!({"textDocument": {"uri": uri}}));
+    assert_eq!(folds[0], json!({"startLine": 0, "endLine": 2, "kind": "comment"}));
+    assert_eq!(folds[1], json!({"startLine": 3, "endLine": 14}));
+    client.shutdown();
+}
+
 /// A position past the end of the document, or in a document the server does
 /// not know, is clamped or answered with nothing, never a crash.
 #[test]

@@ -1,14 +1,16 @@
 //! What the shells ask, in byte offsets: a file's diagnostics, document
-//! symbols, hover, go to definition, find references. Plain data out; the
-//! server converts to LSP.
+//! symbols, hover, go to definition, find references, document highlights,
+//! folding ranges. Plain data out; the server converts to LSP.
 
 pub mod diagnostics;
+mod outline;
 mod plan;
 mod refs;
 
 use crate::model::Str;
 use rowan::{TextRange, TextSize};
 
+pub use outline::{Fold, FoldKind, Highlight, document_highlights, folding_ranges};
 pub use refs::{Occurrence, RefKind, occurrences};
 
 use crate::db::{Db, Item, ItemSyntax, Section, SourceFile, Unit, UnitKind, file_units, lower_item};
