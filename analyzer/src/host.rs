@@ -310,6 +310,26 @@ impl Analysis {
         self.with_db(|db| crate::ide::document_highlights(db, file, offset))
     }
 
+    /// The name at `offset` a rename would change, and its text; why not.
+    pub fn prepare_rename(
+        &self,
+        file: SourceFile,
+        offset: TextSize,
+    ) -> Cancellable<Result<(rowan::TextRange, String), crate::ide::RenameError>> {
+        self.with_db(|db| crate::ide::prepare_rename(db, file, offset))
+    }
+
+    /// Where to write `new_name` to rename the name at `offset`, in every
+    /// file of its domain; why not.
+    pub fn rename(
+        &self,
+        file: SourceFile,
+        offset: TextSize,
+        new_name: &str,
+    ) -> Cancellable<Result<Vec<crate::ide::NavTarget>, crate::ide::RenameError>> {
+        self.with_db(|db| crate::ide::rename(db, file, offset, new_name))
+    }
+
     pub fn folding_ranges(&self, file: SourceFile) -> Cancellable<Vec<crate::ide::Fold>> {
         self.with_db(|db| crate::ide::folding_ranges(db, file))
     }

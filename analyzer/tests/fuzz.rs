@@ -201,6 +201,7 @@ proptest! {
             a.hover(f, at).unwrap();
             a.references(f, at, true).unwrap();
             a.document_highlights(f, at).unwrap();
+            a.rename(f, at, "renamed").unwrap().ok();
         }
     }
 

@@ -221,6 +221,8 @@ fn exercise(model: &Model) -> (Vec<Diagnostic>, Vec<Diagnostic>) {
             analysis.goto_definition(file, at).expect("not cancelled");
             analysis.references(file, at, true).expect("not cancelled");
             analysis.document_highlights(file, at).expect("not cancelled");
+            analysis.prepare_rename(file, at).expect("not cancelled").ok();
+            analysis.rename(file, at, "renamed").expect("not cancelled").ok();
         }
     }
     analysis.validate_plan(plan, None, p, &Options::default()).expect("not cancelled");

@@ -67,6 +67,44 @@ pub(crate) fn document_highlights(
     Ok(Some(highlights))
 }
 
+/// The range and text of the name a rename at `pos` would change, or why
+/// none would.
+pub(crate) fn prepare_rename(
+    snap: &Snapshot,
+    pos: lsp::Position,
+) -> Cancellable<Option<Result<lsp::PrepareRenameResponse, String>>> {
+    let file = snap.files().get(snap.file)?;
+    let answer = snap.analysis.prepare_rename(snap.file, file.offset(pos).into())?;
+    Ok(Some(answer.map_err(|e| e.0).map(|(range, placeholder)| {
+        lsp::PrepareRenameResponse::RangeWithPlaceholder { range: file.range(range), placeholder }
+    })))
+}
+
+/// The edits of a rename at `pos` to `new_name`, in every file of the
+/// domain, or why it is refused.
+pub(crate) fn rename(
+    snap: &Snapshot,
+    pos: lsp::Position,
+    new_name: &str,
+) -> Cancellable<Option<Result<lsp::WorkspaceEdit, String>>> {
+    let mut files = snap.files();
+    let offset = files.get(snap.file)?.offset(pos);
+    let targets = match snap.analysis.rename(snap.file, offset.into(), new_name)? {
+        Ok(targets) => targets,
+        Err(e) => return Ok(Some(Err(e.0))),
+    };
+    let mut changes: std::collections::HashMap<lsp::Uri, Vec<lsp::TextEdit>> =
+        std::collections::HashMap::new();
+    for target in targets {
+        let Some(location) = files.location(target.file, target.range)? else { continue };
+        changes
+            .entry(location.uri)
+            .or_default()
+            .push(lsp::TextEdit::new(location.range, new_name.to_string()));
+    }
+    Ok(Some(Ok(lsp::WorkspaceEdit { changes: Some(changes), ..lsp::WorkspaceEdit::default() })))
+}
+
 /// Whole lines to fold: the lists and comment runs of the document, from
 /// the line they start on to the line they end on.
 pub(crate) fn folding_ranges(snap: &Snapshot) -> Cancellable<Option<Vec<lsp::FoldingRange>>> {

@@ -270,6 +270,27 @@ impl LanguageServer for Backend {
             .await
     }
 
+    async fn prepare_rename(
+        &self,
+        params: TextDocumentPositionParams,
+    ) -> Result<Option<PrepareRenameResponse>> {
+        let pos = params.position;
+        let uri = &params.text_document.uri;
+        let answer =
+            requests::run(&self.session, uri, "prepareRename", move |s| features::prepare_rename(s, pos))
+                .await?;
+        refused(answer)
+    }
+
+    async fn rename(&self, params: RenameParams) -> Result<Option<WorkspaceEdit>> {
+        let at = params.text_document_position;
+        let (pos, name) = (at.position, params.new_name);
+        let uri = &at.text_document.uri;
+        let answer =
+            requests::run(&self.session, uri, "rename", move |s| features::rename(s, pos, &name)).await?;
+        refused(answer)
+    }
+
     async fn folding_range(&self, params: FoldingRangeParams) -> Result<Option<Vec<FoldingRange>>> {
         let uri = params.text_document.uri;
         requests::run(&self.session, &uri, "foldingRange", features::folding_ranges).await
@@ -285,5 +306,19 @@ impl LanguageServer for Backend {
         let range = params.range;
         let uri = &params.text_document.uri;
         requests::run(&self.session, uri, "codeAction", move |s| features::code_actions(s, range)).await
+    }
+}
+
+/// A rename's answer: nothing for an unknown document, the client shows the
+/// reason of a refusal.
+fn refused<T>(answer: Option<std::result::Result<T, String>>) -> Result<Option<T>> {
+    match answer {
+        None => Ok(None),
+        Some(Ok(x)) => Ok(Some(x)),
+        Some(Err(message)) => Err(tower_lsp_server::jsonrpc::Error {
+            code: tower_lsp_server::jsonrpc::ErrorCode::InvalidParams,
+            message: message.into(),
+            data: None,
+        }),
     }
 }

@@ -143,6 +143,46 @@ fn document_highlights_and_folding_ranges() {
     client.shutdown();
 }
 
+/// Rename changes the domain and its problem (loaded from disk, not open);
+/// a rename that would merge two names, or with nothing declared to
+/// rename, is refused with the reason.
+#[test]
+fn rename_across_the_domain_and_its_problems() {
+    let mut client = Client::spawn();
+    let init = client.initialize(&fixture("blocks"), json!({}));
+    assert_eq!(init["capabilities"]["renameProvider"]["prepareProvider"], true);
+    let (uri, text) = read("blocks/domain.pddl");
+    client.open(&uri, &text);
+    client.diagnostics(&uri, Some(1));
+
+    let prepared = client.request("textDocument/prepareRename", at(&uri, 11, 26));
+    assert_eq!(prepared, json!({"range": range(11, 24, 11, 32), "placeholder": "on-table"}));
+    let edit = client.request(
+        "textDocument/rename",
+        json!({"textDocument": {"uri": uri}, "position": {"line": 11, "character": 26}, "newName": "on-floor"}),
+    );
+    let problem_uri = file_uri(&fixture("blocks/problem.pddl"));
+    let at_ranges = |u: &str| -> Vec<Value> {
+        let mut edits: Vec<Value> = edit["changes"][u].as_array().expect("edits of the file").clone();
+        edits.sort_by_key(|e| {
+            (e["range"]["start"]["line"].as_i64(), e["range"]["start"]["character"].as_i64())
+        });
+        assert!(edits.iter().all(|e| e["newText"] == "on-floor"), "{edits:?}");
+        edits.iter().map(|e| e["range"].clone()).collect()
+    };
+    assert_eq!(at_ranges(&uri), [range(6, 5, 6, 13), range(11, 24, 11, 32), range(12, 36, 12, 44)]);
+    assert_eq!(at_ranges(&problem_uri), [range(3, 10, 3, 18)]);
+
+    let refused = client.request_raw(
+        "textDocument/rename",
+        json!({"textDocument": {"uri": uri}, "position": {"line": 11, "character": 26}, "newName": "clear"}),
+    );
+    assert_eq!(refused["error"]["message"], "`clear` is already declared: the two would merge");
+    let nothing = client.request_raw("textDocument/prepareRename", at(&uri, 1, 0));
+    assert_eq!(nothing["error"]["message"], "no name to rename here");
+    client.shutdown();
+}
+
 /// A position past the end of the document, or in a document the server does
 /// not know, is clamped or answered with nothing, never a crash.
 #[test]

@@ -1,17 +1,19 @@
 //! What the shells ask, in byte offsets: a file's diagnostics, document
 //! symbols, hover, go to definition, find references, document highlights,
-//! folding ranges. Plain data out; the server converts to LSP.
+//! folding ranges, rename. Plain data out; the server converts to LSP.
 
 pub mod diagnostics;
 mod outline;
 mod plan;
 mod refs;
+mod rename;
 
 use crate::model::Str;
 use rowan::{TextRange, TextSize};
 
 pub use outline::{Fold, FoldKind, Highlight, document_highlights, folding_ranges};
 pub use refs::{Occurrence, RefKind, occurrences};
+pub use rename::{RenameError, prepare_rename, rename};
 
 use crate::db::{Db, Item, ItemSyntax, Section, SourceFile, Unit, UnitKind, file_units, lower_item};
 use crate::model::{ActionKind, ItemData, TypeRef};
