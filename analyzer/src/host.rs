@@ -330,6 +330,15 @@ impl Analysis {
         self.with_db(|db| crate::ide::rename(db, file, offset, new_name))
     }
 
+    /// The code actions for `range` of `file` beyond the diagnostics' fixes.
+    pub fn code_actions(
+        &self,
+        file: SourceFile,
+        range: rowan::TextRange,
+    ) -> Cancellable<Vec<crate::ide::CodeAction>> {
+        self.with_db(|db| crate::ide::code_actions(db, file, range))
+    }
+
     pub fn folding_ranges(&self, file: SourceFile) -> Cancellable<Vec<crate::ide::Fold>> {
         self.with_db(|db| crate::ide::folding_ranges(db, file))
     }

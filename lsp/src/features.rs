@@ -149,6 +149,22 @@ pub(crate) fn code_actions(
             actions.push(lsp::CodeActionOrCommand::CodeAction(action));
         }
     }
+    // Then the analyzer's own: an undeclared predicate declared.
+    for action in snap.analysis.code_actions(snap.file, wanted)? {
+        let mut changes: std::collections::HashMap<lsp::Uri, Vec<lsp::TextEdit>> =
+            std::collections::HashMap::new();
+        for (file, range, text) in action.edits {
+            if let Some(location) = files.location(file, range)? {
+                changes.entry(location.uri).or_default().push(lsp::TextEdit::new(location.range, text));
+            }
+        }
+        actions.push(lsp::CodeActionOrCommand::CodeAction(lsp::CodeAction {
+            title: action.title,
+            kind: Some(lsp::CodeActionKind::QUICKFIX),
+            edit: Some(lsp::WorkspaceEdit { changes: Some(changes), ..lsp::WorkspaceEdit::default() }),
+            ..lsp::CodeAction::default()
+        }));
+    }
     Ok(Some(actions))
 }
 

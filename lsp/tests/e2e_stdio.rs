@@ -386,6 +386,33 @@ fn quick_fix_of_a_lint() {
     client.shutdown();
 }
 
+/// An undeclared predicate can be declared, with the arity and types of its
+/// use, at the end of `:predicates`.
+#[test]
+fn an_undeclared_predicate_is_declared_by_a_code_action() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    let (uri, text) = read("blocks/domain.pddl");
+    client.open(&uri, &text);
+    assert_eq!(codes(&client.diagnostics(&uri, Some(1))), ["E0102"]);
+    let actions = client.request(
+        "textDocument/codeAction",
+        json!({"textDocument": {"uri": uri}, "range": range(12, 20, 12, 20), "context": {"diagnostics": []}}),
+    );
+    let declare = actions
+        .as_array()
+        .expect("actions")
+        .iter()
+        .find(|a| a["title"] == "declare `(holding ?b - block)` in `:predicates`")
+        .unwrap_or_else(|| panic!("no declaration among {actions:#}"));
+    assert_eq!(declare["kind"], "quickfix");
+    assert_eq!(
+        declare["edit"]["changes"][&uri],
+        json!([{"range": range(8, 21, 8, 21), "newText": " (holding ?b - block)"}])
+    );
+    client.shutdown();
+}
+
 /// A copy of the `blocks` fixture in a fresh folder, to change on disk.
 fn scratch_copy(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("hipop-lsp-{name}-{}", std::process::id()));

@@ -2,6 +2,7 @@
 //! symbols, hover, go to definition, find references, document highlights,
 //! folding ranges, rename. Plain data out; the server converts to LSP.
 
+mod actions;
 pub mod diagnostics;
 mod outline;
 mod plan;
@@ -11,6 +12,7 @@ mod rename;
 use crate::model::Str;
 use rowan::{TextRange, TextSize};
 
+pub use actions::{CodeAction, code_actions};
 pub use outline::{Fold, FoldKind, Highlight, document_highlights, folding_ranges};
 pub use refs::{Occurrence, RefKind, occurrences};
 pub use rename::{RenameError, prepare_rename, rename};
