@@ -188,20 +188,30 @@ pub(crate) fn quick_fix(
     files: &mut Files<'_>,
 ) -> Cancellable<Option<lsp::CodeAction>> {
     let Some(fix) = d.fix.as_ref().filter(|f| !f.edits.is_empty()) else { return Ok(None) };
-    let mut changes: HashMap<lsp::Uri, Vec<lsp::TextEdit>> = HashMap::new();
-    for (file, range, insert) in &fix.edits {
-        let info = files.get(*file)?;
-        let Some(uri) = info.uri.clone() else { return Ok(None) };
-        changes.entry(uri).or_default().push(lsp::TextEdit::new(info.range(*range), insert.clone()));
-    }
+    let Some(edit) = workspace_edit(&fix.edits, files)? else { return Ok(None) };
     Ok(Some(lsp::CodeAction {
         title: fix.message.clone(),
         kind: Some(lsp::CodeActionKind::QUICKFIX),
         diagnostics: Some(vec![diagnostic(d, files)?]),
-        edit: Some(lsp::WorkspaceEdit { changes: Some(changes), ..lsp::WorkspaceEdit::default() }),
+        edit: Some(edit),
         is_preferred: Some(true),
         ..lsp::CodeAction::default()
     }))
+}
+
+/// The analyzer's edits (file, range, text) as a workspace edit; `None` when
+/// a file has no URI to name it by.
+pub(crate) fn workspace_edit(
+    edits: &[(SourceFile, TextRange, String)],
+    files: &mut Files<'_>,
+) -> Cancellable<Option<lsp::WorkspaceEdit>> {
+    let mut changes: HashMap<lsp::Uri, Vec<lsp::TextEdit>> = HashMap::new();
+    for (file, range, text) in edits {
+        let info = files.get(*file)?;
+        let Some(uri) = info.uri.clone() else { return Ok(None) };
+        changes.entry(uri).or_default().push(lsp::TextEdit::new(info.range(*range), text.clone()));
+    }
+    Ok(Some(lsp::WorkspaceEdit { changes: Some(changes), ..lsp::WorkspaceEdit::default() }))
 }
 
 /// Symbol kinds: a predicate is a boolean state variable, a function a numeric

@@ -93,16 +93,9 @@ pub(crate) fn rename(
         Ok(targets) => targets,
         Err(e) => return Ok(Some(Err(e.0))),
     };
-    let mut changes: std::collections::HashMap<lsp::Uri, Vec<lsp::TextEdit>> =
-        std::collections::HashMap::new();
-    for target in targets {
-        let Some(location) = files.location(target.file, target.range)? else { continue };
-        changes
-            .entry(location.uri)
-            .or_default()
-            .push(lsp::TextEdit::new(location.range, new_name.to_string()));
-    }
-    Ok(Some(Ok(lsp::WorkspaceEdit { changes: Some(changes), ..lsp::WorkspaceEdit::default() })))
+    let edits: Vec<_> = targets.into_iter().map(|t| (t.file, t.range, new_name.to_string())).collect();
+    let edit = convert::workspace_edit(&edits, &mut files)?;
+    Ok(Some(edit.ok_or_else(|| "a file to change has no URI".to_string())))
 }
 
 /// Whole lines to fold: the lists and comment runs of the document, from
@@ -151,17 +144,11 @@ pub(crate) fn code_actions(
     }
     // Then the analyzer's own: an undeclared predicate declared.
     for action in snap.analysis.code_actions(snap.file, wanted)? {
-        let mut changes: std::collections::HashMap<lsp::Uri, Vec<lsp::TextEdit>> =
-            std::collections::HashMap::new();
-        for (file, range, text) in action.edits {
-            if let Some(location) = files.location(file, range)? {
-                changes.entry(location.uri).or_default().push(lsp::TextEdit::new(location.range, text));
-            }
-        }
+        let Some(edit) = convert::workspace_edit(&action.edits, &mut files)? else { continue };
         actions.push(lsp::CodeActionOrCommand::CodeAction(lsp::CodeAction {
             title: action.title,
             kind: Some(lsp::CodeActionKind::QUICKFIX),
-            edit: Some(lsp::WorkspaceEdit { changes: Some(changes), ..lsp::WorkspaceEdit::default() }),
+            edit: Some(edit),
             ..lsp::CodeAction::default()
         }));
     }
