@@ -24,6 +24,8 @@ pub struct CodeAction {
 /// `?x1`, `?x2`… untyped.
 pub fn code_actions(db: &dyn Db, file: SourceFile, range: TextRange) -> Vec<CodeAction> {
     let mut out: Vec<CodeAction> = Vec::new();
+    // The predicates offered already, by key.
+    let mut offered: rustc_hash::FxHashSet<String> = rustc_hash::FxHashSet::default();
     let root = parse(db, file).syntax();
     for &unit in file_units(db, file) {
         let Some(domain) = domain_for(db, unit) else { continue };
@@ -45,14 +47,13 @@ pub fn code_actions(db: &dyn Db, file: SourceFile, range: TextRange) -> Vec<Code
                 }
             });
             for (key, text, at) in uses {
-                if declaration(db, unit, item, RefKind::Predicate, &key).is_some()
-                    || out.iter().any(|a| a.title.contains(&format!("`({text}")))
-                {
+                if offered.contains(&key) || declaration(db, unit, item, RefKind::Predicate, &key).is_some() {
                     continue;
                 }
                 let Some(args) = arguments(&root, at) else { continue };
                 let params = parameters(data, &args);
                 let decl = if params.is_empty() { format!("({text})") } else { format!("({text} {params})") };
+                offered.insert(key);
                 out.push(CodeAction {
                     title: format!("declare `{decl}` in `:predicates`"),
                     edits: vec![(predicates.file(db), end_of(db, predicates), format!(" {decl}"))],
@@ -129,6 +130,12 @@ mod tests {
     use super::*;
     use crate::AnalysisHost;
 
+    fn host_with(text: &str) -> (AnalysisHost, SourceFile) {
+        let mut host = AnalysisHost::new();
+        let f = host.set_file_text("other.pddl", text);
+        (host, f)
+    }
+
     #[test]
     fn an_undeclared_predicate_is_declared_with_the_types_of_its_use() {
         let domain = "(define (domain d)\n  (:requirements :typing)\n  (:types block)\n  (:predicates (on ?b - block))\n  (:action pick\n    :parameters (?b - block ?h - hand)\n    :precondition (and (on ?b) (holding ?h ?b) (near b1))\n    :effect (not (on ?b))))\n";
@@ -149,6 +156,18 @@ mod tests {
         let mut fixed = domain.to_string();
         fixed.insert_str(usize::from(at.start()), insert);
         assert!(fixed.contains("(:predicates (on ?b - block) (holding ?h - hand ?b - block))"), "{fixed}");
+        // One action per predicate, whatever names begin like it.
+        let both =
+            "(define (domain d) (:predicates (p))\n  (:action a :precondition (and (onto) (on) (onto))))\n";
+        let b = host_with(both);
+        let titles: Vec<String> =
+            b.0.analysis()
+                .code_actions(b.1, TextRange::up_to((both.len() as u32).into()))
+                .unwrap()
+                .into_iter()
+                .map(|a| a.title)
+                .collect();
+        assert_eq!(titles, ["declare `(onto)` in `:predicates`", "declare `(on)` in `:predicates`"]);
         // Nothing for a declared predicate, nor outside the range.
         let on = domain.find("(on ?b) (holding").unwrap() as u32 + 1;
         assert_eq!(host.analysis().code_actions(d, TextRange::at(on.into(), 2.into())).unwrap(), vec![]);
