@@ -4,7 +4,7 @@
 use rowan::{TextRange, TextSize};
 
 use super::{NavTarget, RefKind, declaration, occurrence_at, references};
-use crate::db::{Db, SourceFile};
+use crate::db::{Db, Item, SourceFile, Unit};
 
 /// Why a name cannot be renamed (shown to the user as is).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -17,6 +17,16 @@ pub fn prepare_rename(
     file: SourceFile,
     offset: TextSize,
 ) -> Result<(TextRange, String), RenameError> {
+    let (.., range) = renamable(db, file, offset)?;
+    Ok((range, file.text(db)[range].to_string()))
+}
+
+/// The occurrence at `offset` if it names something a rename can change.
+fn renamable(
+    db: &dyn Db,
+    file: SourceFile,
+    offset: TextSize,
+) -> Result<(Unit<'_>, Item<'_>, RefKind, String, TextRange), RenameError> {
     if crate::db::is_plan_file(db, file) {
         return Err(RenameError("rename a name in its domain or problem, not in a plan".into()));
     }
@@ -28,8 +38,7 @@ pub fn prepare_rename(
     if declaration(db, unit, item, kind, &key).is_none() {
         return Err(RenameError(format!("`{key}` is declared nowhere: there is nothing to rename")));
     }
-    let text = file.text(db)[range].to_string();
-    Ok((range, text))
+    Ok((unit, item, kind, key, range))
 }
 
 /// The edits that rename the name at `offset` to `new_name`: each
@@ -40,8 +49,7 @@ pub fn rename(
     offset: TextSize,
     new_name: &str,
 ) -> Result<Vec<NavTarget>, RenameError> {
-    prepare_rename(db, file, offset)?;
-    let (unit, item, kind, key, _) = occurrence_at(db, file, offset).expect("prepare_rename found it");
+    let (unit, item, kind, key, _) = renamable(db, file, offset)?;
     check_name(kind, new_name)?;
     let new_key = new_name.to_ascii_lowercase();
     // The same name in another case rewrites the occurrences; a domain's
