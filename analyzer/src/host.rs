@@ -391,7 +391,13 @@ impl Analysis {
         let db = &self.db;
         let run = AssertUnwindSafe(move || {
             let unit = first_problem(db, problem)?;
-            let out = crate::planner::plan(db, unit, config, limits, cancel, progress);
+            let cancel = || {
+                // A pending change of the inputs stops the search (the
+                // change waits for this snapshot to be dropped).
+                salsa::Database::unwind_if_revision_cancelled(db);
+                cancel()
+            };
+            let out = crate::planner::plan(db, unit, config, limits, &cancel, progress);
             Some(PlanningResult {
                 status: out.status,
                 plan: out.plan,
@@ -424,20 +430,135 @@ impl Analysis {
                 Some(f) => crate::plan::parse_plan_as(db, old, f),
                 None => crate::plan::parse_plan(db, old),
             };
-            let out = crate::repair::repair(db, unit, plan, config, limits, options, cancel, progress);
-            Some(RepairResult {
-                status: out.status,
-                stage: out.stage,
-                plan: out.plan,
-                old: out.old,
-                removed: out.removed,
-                stages: out.stages,
-                dropped: out.dropped,
-                stats: out.stats,
-                diagnostics: out.lints.iter().map(|l| l.to_diagnostic(db)).collect(),
-            })
+            let cancel = || {
+                salsa::Database::unwind_if_revision_cancelled(db);
+                cancel()
+            };
+            let out = crate::repair::repair(db, unit, plan, config, limits, options, &cancel, progress);
+            Some(repair_result(db, out))
         });
         salsa::Cancelled::catch(run).map_err(|_| Cancelled)
+    }
+
+    /// Repairs `old` (the text of a plan in `format`, or the format its
+    /// content shows), as [`Analysis::run_repair`] does with a plan file:
+    /// for a shell that keeps the last plan of a problem in memory.
+    #[allow(clippy::too_many_arguments)]
+    pub fn run_repair_text(
+        &self,
+        problem: SourceFile,
+        old: &str,
+        format: Option<PlanFormat>,
+        config: &crate::planner::Config,
+        limits: &crate::planner::PlannerLimits,
+        options: &crate::repair::RepairOptions,
+        cancel: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&crate::planner::Progress),
+    ) -> Cancellable<Option<RepairResult>> {
+        let db = &self.db;
+        let plan = crate::plan::read_plan(old, format);
+        let run = AssertUnwindSafe(move || {
+            let unit = first_problem(db, problem)?;
+            let cancel = || {
+                // A pending change of the inputs stops the search (the
+                // change waits for this snapshot to be dropped).
+                salsa::Database::unwind_if_revision_cancelled(db);
+                cancel()
+            };
+            let out = crate::repair::repair(db, unit, &plan, config, limits, options, &cancel, progress);
+            Some(repair_result(db, out))
+        });
+        salsa::Cancelled::catch(run).map_err(|_| Cancelled)
+    }
+
+    /// The files holding the problems a planner run on save of `file` covers:
+    /// `file` itself when it has a problem, else the problems of the
+    /// workspace whose domain `file` defines.
+    pub fn problems_to_plan(&self, file: SourceFile) -> Cancellable<Vec<SourceFile>> {
+        self.with_db(|db| {
+            if first_problem(db, file).is_some() {
+                return vec![file];
+            }
+            let mut out: Vec<SourceFile> = crate::db::file_units(db, file)
+                .iter()
+                .filter(|u| u.kind(db) == crate::db::UnitKind::Domain)
+                .flat_map(|&d| crate::semantics::resolve::problems_of(db, d).iter().map(|p| p.file(db)))
+                .collect();
+            out.dedup();
+            out
+        })
+    }
+
+    /// The files a planner run on the first problem of `problem` reads: that
+    /// file, then its domain's when it is found.
+    pub fn plan_inputs(&self, problem: SourceFile) -> Cancellable<Vec<SourceFile>> {
+        self.with_db(|db| {
+            let mut files = vec![problem];
+            if let Some(d) =
+                first_problem(db, problem).and_then(|u| crate::semantics::check::domain_for(db, u))
+                && d.file(db) != problem
+            {
+                files.push(d.file(db));
+            }
+            files
+        })
+    }
+
+    /// The inlay hints of a planner run on the first problem of `file`.
+    pub fn plan_hints(
+        &self,
+        file: SourceFile,
+        run: &crate::ide::PlanRun,
+    ) -> Cancellable<Vec<crate::ide::PlanHint>> {
+        self.with_db(|db| crate::ide::plan_hints(db, file, run))
+    }
+
+    /// What the last plans of the problems of `file` say of the name at `offset`.
+    pub fn plan_hover(
+        &self,
+        file: SourceFile,
+        offset: TextSize,
+        plans: &[(String, &crate::planner::output::SolvedPlan)],
+    ) -> Cancellable<Option<String>> {
+        self.with_db(|db| crate::ide::plan_hover(db, file, offset, plans))
+    }
+
+    /// How `new` differs from `old`, two plans of the first problem of
+    /// `problem`, with the agents its domain gives the steps (`hipop diff`).
+    pub fn solved_plan_diff(
+        &self,
+        problem: SourceFile,
+        old: &crate::planner::output::SolvedPlan,
+        new: &crate::planner::output::SolvedPlan,
+    ) -> Cancellable<(Plan, Plan, crate::plan::diff::PlanDiff)> {
+        self.with_db(|db| {
+            let a = crate::plan::read_plan(&old.to_json(), Some(PlanFormat::Json));
+            let b = crate::plan::read_plan(&new.to_json(), Some(PlanFormat::Json));
+            let matching = NameMatching::CaseInsensitive;
+            let agents = first_problem(db, problem)
+                .and_then(|u| crate::semantics::check::domain_for(db, u))
+                .map(|d| AgentTable::from_domain(db, d.file(db), matching))
+                .unwrap_or_default();
+            let options = crate::plan::diff::DiffOptions { matching, ..Default::default() };
+            let d = crate::plan::diff::diff(&a, &b, &agents, &options);
+            (a, b, d)
+        })
+    }
+
+    /// The timeline of a solved plan of the first problem of `problem`, as SVG.
+    pub fn solved_plan_svg(
+        &self,
+        problem: SourceFile,
+        plan: &crate::planner::output::SolvedPlan,
+    ) -> Cancellable<String> {
+        self.with_db(|db| {
+            let p = crate::plan::read_plan(&plan.to_json(), Some(PlanFormat::Json));
+            let agents = first_problem(db, problem)
+                .and_then(|u| crate::semantics::check::domain_for(db, u))
+                .map(|d| AgentTable::from_domain(db, d.file(db), NameMatching::CaseInsensitive))
+                .unwrap_or_default();
+            crate::plan::timeline::svg(&crate::plan::timeline::timeline(&p, &agents))
+        })
     }
 
     /// The diagnostics of reading a plan (E0401–E0409, W0401–W0409).
@@ -455,6 +576,20 @@ impl Analysis {
     /// The agents of the actions and tasks of the domains in a file (their `:agent`).
     pub fn plan_agents(&self, domain: SourceFile, matching: NameMatching) -> Cancellable<AgentTable> {
         self.with_db(|db| AgentTable::from_domain(db, domain, matching))
+    }
+}
+
+fn repair_result(db: &dyn crate::db::Db, out: crate::repair::RepairOutcome<'_>) -> RepairResult {
+    RepairResult {
+        status: out.status,
+        stage: out.stage,
+        plan: out.plan,
+        old: out.old,
+        removed: out.removed,
+        stages: out.stages,
+        dropped: out.dropped,
+        stats: out.stats,
+        diagnostics: out.lints.iter().map(|l| l.to_diagnostic(db)).collect(),
     }
 }
 

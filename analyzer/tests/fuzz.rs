@@ -165,6 +165,51 @@ fn as_edits(text: &str, m: &Mutation) -> Vec<TextEdit> {
     vec![edit(start, end, insert)]
 }
 
+/// A run whose plan achieves the goals `(p a)` and `(at r1 w1)` and refines
+/// the task `(t a)`: what the editor's hints look for in any file.
+fn some_run() -> hipop_analyzer::ide::PlanRun {
+    use hipop_analyzer::planner::output::{SolvedLink, SolvedPlan, SolvedStep};
+    let step = |id: usize, name: &str, args: &[&str], is_abstract: bool| SolvedStep {
+        id,
+        name: name.to_string(),
+        args: args.iter().map(|a| a.to_string()).collect(),
+        agents: vec!["r1".to_string()],
+        start: 0.0,
+        end: 1.0,
+        duration: Some(1.0),
+        durative: true,
+        is_abstract,
+        method: is_abstract.then(|| "m".to_string()),
+        subtasks: if is_abstract { vec![0] } else { Vec::new() },
+        bounds: [(0.0, 0.0), (1.0, 1.0)],
+    };
+    let link = |predicate: &str, args: &[&str]| SolvedLink {
+        from: Some(0),
+        to: None,
+        predicate: predicate.to_string(),
+        args: args.iter().map(|a| a.to_string()).collect(),
+        negated: false,
+    };
+    let plan = SolvedPlan {
+        domain: "d".to_string(),
+        problem: "p".to_string(),
+        hash: String::new(),
+        steps: vec![step(0, "a", &["a"], false), step(1, "t", &["a"], true)],
+        root: vec![1],
+        causal_links: vec![link("p", &["a"]), link("at", &["r1", "w1"])],
+        temporal_links: Vec::new(),
+        makespan: 1.0,
+    };
+    hipop_analyzer::ide::PlanRun {
+        status: hipop_analyzer::planner::Status::Solved,
+        plan: Some(plan),
+        stats: Default::default(),
+        time_limit: None,
+        flaws: 0,
+        repair: None,
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
@@ -197,12 +242,16 @@ proptest! {
         a.document_symbols(f).unwrap();
         a.folding_ranges(f).unwrap();
         a.code_actions(f, TextRange::up_to(TextSize::of(text.as_str()))).unwrap();
+        let run = some_run();
+        a.plan_hints(f, &run).unwrap();
+        let plans = [("p".to_string(), run.plan.as_ref().unwrap())];
         for p in probes {
             let at = TextSize::from(boundary(&text, p) as u32);
             a.hover(f, at).unwrap();
             a.references(f, at, true).unwrap();
             a.document_highlights(f, at).unwrap();
             a.rename(f, at, "renamed").unwrap().ok();
+            a.plan_hover(f, at, &plans).unwrap();
         }
     }
 
@@ -247,5 +296,6 @@ proptest! {
             a.references(f, at, true).unwrap();
         }
         a.document_symbols(f).unwrap();
+        a.plan_hints(f, &some_run()).unwrap();
     }
 }

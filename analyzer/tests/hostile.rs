@@ -228,7 +228,28 @@ fn exercise(model: &Model) -> (Vec<Diagnostic>, Vec<Diagnostic>) {
     }
     analysis.validate_plan(plan, None, p, &Options::default()).expect("not cancelled");
     let limits = PlannerLimits { nodes: Some(200), ..Default::default() };
-    analysis.run_planner(p, &Config::default(), &limits, &|| false, &mut |_| {}).expect("not cancelled");
+    let r =
+        analysis.run_planner(p, &Config::default(), &limits, &|| false, &mut |_| {}).expect("not cancelled");
+    // What the editor shows of the run, on the problem and the domain.
+    if let Some(r) = r {
+        let run = hipop_analyzer::ide::PlanRun {
+            status: r.status,
+            plan: r.plan,
+            stats: r.stats,
+            time_limit: limits.time,
+            flaws: r.diagnostics.len(),
+            repair: None,
+        };
+        analysis.plan_hints(p, &run).expect("not cancelled");
+        if let Some(plan) = &run.plan {
+            for (file, text) in [(d, &model.domain), (p, &model.problem)] {
+                for at in (0..text.len()).step_by(13) {
+                    let plans = [("p".to_string(), plan)];
+                    analysis.plan_hover(file, TextSize::from(at as u32), &plans).expect("not cancelled");
+                }
+            }
+        }
+    }
     drop(analysis);
     // An edit in the innermost list re-parses it alone, among its deep ancestors.
     let inner = model.domain.rfind("?x)").expect("an innermost `?x`");

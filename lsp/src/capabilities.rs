@@ -5,6 +5,9 @@ use tower_lsp_server::ls_types as lsp;
 use crate::convert::encoding_kind;
 use crate::line_index::Encoding;
 
+/// The command that writes the last plan of a problem beside it.
+pub(crate) const WRITE_PLAN: &str = "hipop.writePlan";
+
 pub(crate) fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities {
     lsp::ServerCapabilities {
         position_encoding: Some(encoding_kind(encoding)),
@@ -33,6 +36,11 @@ pub(crate) fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities
             code_action_kinds: Some(vec![lsp::CodeActionKind::QUICKFIX]),
             ..lsp::CodeActionOptions::default()
         })),
+        inlay_hint_provider: Some(lsp::OneOf::Left(true)),
+        execute_command_provider: Some(lsp::ExecuteCommandOptions {
+            commands: vec![WRITE_PLAN.to_string()],
+            work_done_progress_options: lsp::WorkDoneProgressOptions::default(),
+        }),
         workspace: Some(lsp::WorkspaceServerCapabilities {
             workspace_folders: Some(lsp::WorkspaceFoldersServerCapabilities {
                 supported: Some(true),

@@ -17,8 +17,8 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use hipop_analyzer::Diagnostic;
 use hipop_analyzer::diagnostic::{SHOWN_PER_FILE, shown_per_file};
+use hipop_analyzer::{Cancellable, Diagnostic, SourceFile};
 use tokio::sync::Mutex;
 use tower_lsp_server::Client;
 use tower_lsp_server::ls_types::{self as lsp, MessageType, Uri};
@@ -133,6 +133,19 @@ async fn deliver(client: &Client, session: &Arc<Mutex<Session>>, generation: u64
 
 type Batch = Vec<(Uri, i32, Vec<lsp::Diagnostic>)>;
 
+/// The flaws in `file` of the best partial plans of the last planner runs
+/// that found no plan, while the files planned are unchanged (information
+/// diagnostics: open links, threats, abstract flaws, I0504–I0506).
+fn plan_flaws(job: &DiagnosticsJob, file: SourceFile) -> Cancellable<Vec<Diagnostic>> {
+    let mut out = Vec::new();
+    for record in job.plans.values() {
+        if record.flaws.iter().any(|d| d.file == file) && record.is_current(&job.analysis)? {
+            out.extend(record.flaws.iter().filter(|d| d.file == file).cloned());
+        }
+    }
+    Ok(out)
+}
+
 /// The diagnostics of every document of the job (at most [`SHOWN_PER_FILE`]
 /// each, then how many more); `None` if cancelled. A document whose analysis
 /// panics is left out rather than failing the batch.
@@ -145,7 +158,10 @@ fn compute(job: DiagnosticsJob, phase: Phase) -> Option<Batch> {
                 Phase::Checks => job.analysis.check_diagnostics(*file)?,
                 Phase::All => job.analysis.diagnostics(*file)?,
             };
-            let mine: Vec<Diagnostic> = diags.into_iter().filter(|d| d.file == *file).collect();
+            let mut mine: Vec<Diagnostic> = diags.into_iter().filter(|d| d.file == *file).collect();
+            if phase == Phase::All {
+                mine.extend(plan_flaws(&job, *file)?);
+            }
             shown_per_file(&mine, SHOWN_PER_FILE).iter().map(|d| convert::diagnostic(d, &mut files)).collect()
         });
         match one {

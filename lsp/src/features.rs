@@ -15,9 +15,26 @@ pub(crate) fn document_symbols(snap: &Snapshot) -> Cancellable<Option<lsp::Docum
     Ok(Some(lsp::DocumentSymbolResponse::Nested(symbols)))
 }
 
+/// The analyzer's hover, and how the last plans use the name (planning on save).
 pub(crate) fn hover(snap: &Snapshot, pos: lsp::Position) -> Cancellable<Option<lsp::Hover>> {
     let file = snap.files().get(snap.file)?;
-    let hover = snap.analysis.hover(snap.file, file.offset(pos).into())?;
+    let offset = file.offset(pos);
+    let mut hover = snap.analysis.hover(snap.file, offset.into())?;
+    if let Some(planned) = crate::plan_features::hover_addition(snap, offset)? {
+        let section = format!("**Last plan**\n\n{planned}");
+        match &mut hover {
+            Some(h) => h.markdown = format!("{}\n\n---\n\n{section}", h.markdown),
+            None => {
+                return Ok(Some(lsp::Hover {
+                    contents: lsp::HoverContents::Markup(lsp::MarkupContent {
+                        kind: lsp::MarkupKind::Markdown,
+                        value: section,
+                    }),
+                    range: None,
+                }));
+            }
+        }
+    }
     Ok(hover.map(|h| convert::hover(h, &file)))
 }
 

@@ -10,6 +10,8 @@ mod diagnostics;
 mod document;
 mod features;
 mod line_index;
+mod plan_features;
+mod planning;
 mod requests;
 mod server;
 mod session;
@@ -24,7 +26,10 @@ use tower_lsp_server::{LspService, Server};
 pub fn run_stdio() -> std::io::Result<()> {
     let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build()?;
     runtime.block_on(async {
-        let (service, socket) = LspService::new(server::Backend::new);
+        let (service, socket) = LspService::build(server::Backend::new)
+            .custom_method("hipop/plan", server::Backend::plan_request)
+            .custom_method("hipop/planDiff", server::Backend::plan_diff_request)
+            .finish();
         Server::new(tokio::io::stdin(), tokio::io::stdout(), socket).serve(service).await;
     });
     // Tokio reads stdin on a blocking thread that may never return; don't wait for it.

@@ -14,20 +14,70 @@ use tower_lsp_server::ls_types::*;
 use tower_lsp_server::{Client, LanguageServer};
 
 use crate::diagnostics::{self, When};
+use crate::planning::{self, Planning};
 use crate::requests::{self, Outcome, guarded};
 use crate::session::Session;
 use crate::watch::{self, DiskWatcher};
 use crate::workspace::{self, Scan};
-use crate::{capabilities, convert, features};
+use crate::{capabilities, convert, features, plan_features};
 
 pub(crate) struct Backend {
     client: Client,
     session: Arc<Mutex<Session>>,
+    planning: Arc<Planning>,
 }
 
 impl Backend {
     pub(crate) fn new(client: Client) -> Backend {
-        Backend { client, session: Arc::default() }
+        Backend { client, session: Arc::default(), planning: Arc::default() }
+    }
+
+    /// `hipop/plan`: the last planner run on a problem (see `plan_features::plan`).
+    pub(crate) async fn plan_request(
+        &self,
+        params: TextDocumentIdentifier,
+    ) -> Result<Option<serde_json::Value>> {
+        requests::run(&self.session, &params.uri, "hipop/plan", plan_features::plan).await
+    }
+
+    /// `hipop/planDiff`: what the last repair of a problem changed.
+    pub(crate) async fn plan_diff_request(
+        &self,
+        params: TextDocumentIdentifier,
+    ) -> Result<Option<serde_json::Value>> {
+        requests::run(&self.session, &params.uri, "hipop/planDiff", plan_features::plan_diff).await
+    }
+
+    /// `hipop.writePlan`: writes the last plan of a problem beside it, and
+    /// reads it back at once so that it is validated like any plan file.
+    async fn write_plan(&self, uri: Uri) -> Result<Option<serde_json::Value>> {
+        let answer =
+            requests::run(&self.session, &uri, "hipop.writePlan", plan_features::plan_to_write).await?;
+        let text = match answer {
+            None => return Err(invalid_params(format!("{} is not a known problem", uri.as_str()))),
+            Some(Err(message)) => return Err(invalid_params(message)),
+            Some(Ok(text)) => text,
+        };
+        let Some(path) = plan_features::plan_path(&uri) else {
+            return Err(invalid_params(format!("{} is not a file on disk", uri.as_str())));
+        };
+        let written = {
+            let path = path.clone();
+            tokio::task::spawn_blocking(move || std::fs::write(&path, text)).await
+        };
+        match written {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => return Err(invalid_params(format!("{}: cannot write: {e}", path.display()))),
+            Err(e) => return Err(invalid_params(format!("{}: cannot write: {e}", path.display()))),
+        }
+        let Some(plan_uri) = Uri::from_file_path(&path) else { return Ok(None) };
+        let reread = plan_uri.clone();
+        self.mutate("writing the plan", When::Now, move |s| {
+            s.reread(&reread);
+            Ok(())
+        })
+        .await;
+        Ok(Some(serde_json::json!({ "uri": plan_uri.as_str(), "path": path.display().to_string() })))
     }
 
     async fn mutate(
@@ -127,7 +177,28 @@ impl LanguageServer for Backend {
             params.client_info.as_ref().is_some_and(|c| c.name.eq_ignore_ascii_case("helix"));
         let watch_files =
             watch.and_then(|w| w.dynamic_registration).unwrap_or(false) && !forwards_only_its_writes;
-        self.session.lock().await.set_client(encoding, watch_files);
+        {
+            let mut session = self.session.lock().await;
+            session.set_client(encoding, watch_files);
+            session.client_features = crate::session::ClientFeatures {
+                progress: params
+                    .capabilities
+                    .window
+                    .as_ref()
+                    .and_then(|w| w.work_done_progress)
+                    .unwrap_or(false),
+                inlay_hint_refresh: params
+                    .capabilities
+                    .workspace
+                    .as_ref()
+                    .and_then(|w| w.inlay_hint.as_ref())
+                    .and_then(|i| i.refresh_support)
+                    .unwrap_or(false),
+            };
+            if let Some(options) = &params.initialization_options {
+                session.plan_settings.update(options);
+            }
+        }
         self.load_folders(workspace::roots(&params)).await;
         Ok(InitializeResult {
             capabilities: capabilities::server_capabilities(encoding),
@@ -206,14 +277,22 @@ impl LanguageServer for Backend {
     }
 
     async fn did_change(&self, params: DidChangeTextDocumentParams) {
+        // Stops a plan in progress first: the change waits for nothing.
+        self.planning.cancel();
         let doc = params.text_document;
         let changes = params.content_changes;
         self.mutate("didChange", When::Debounced, |s| s.change(&doc.uri, doc.version, changes)).await;
     }
 
-    async fn did_save(&self, _: DidSaveTextDocumentParams) {
+    async fn did_save(&self, params: DidSaveTextDocumentParams) {
         let generation = self.session.lock().await.generation();
         diagnostics::schedule(&self.client, &self.session, generation, When::NowForced);
+        let (client, session, planning) = (self.client.clone(), self.session.clone(), self.planning.clone());
+        tokio::spawn(planning::on_save(client, session, planning, params.text_document.uri));
+    }
+
+    async fn did_change_configuration(&self, params: DidChangeConfigurationParams) {
+        self.session.lock().await.plan_settings.update(&params.settings);
     }
 
     async fn did_close(&self, params: DidCloseTextDocumentParams) {
@@ -243,6 +322,32 @@ impl LanguageServer for Backend {
         let at = params.text_document_position_params;
         let pos = at.position;
         requests::run(&self.session, &at.text_document.uri, "hover", move |s| features::hover(s, pos)).await
+    }
+
+    async fn inlay_hint(&self, params: InlayHintParams) -> Result<Option<Vec<InlayHint>>> {
+        let range = params.range;
+        let uri = &params.text_document.uri;
+        requests::run(&self.session, uri, "inlayHint", move |s| plan_features::inlay_hints(s, range)).await
+    }
+
+    async fn execute_command(&self, params: ExecuteCommandParams) -> Result<Option<LSPAny>> {
+        match params.command.as_str() {
+            capabilities::WRITE_PLAN => {
+                let uri = params
+                    .arguments
+                    .first()
+                    .and_then(|a| a.as_str().or_else(|| a.get("uri").and_then(|u| u.as_str())))
+                    .and_then(|u| u.parse::<Uri>().ok());
+                match uri {
+                    Some(uri) => self.write_plan(uri).await,
+                    None => Err(invalid_params(format!(
+                        "{}: expected the problem's URI",
+                        capabilities::WRITE_PLAN
+                    ))),
+                }
+            }
+            other => Err(invalid_params(format!("unknown command `{other}`"))),
+        }
     }
 
     async fn goto_definition(&self, params: GotoDefinitionParams) -> Result<Option<GotoDefinitionResponse>> {
@@ -306,6 +411,14 @@ impl LanguageServer for Backend {
         let range = params.range;
         let uri = &params.text_document.uri;
         requests::run(&self.session, uri, "codeAction", move |s| features::code_actions(s, range)).await
+    }
+}
+
+fn invalid_params(message: String) -> tower_lsp_server::jsonrpc::Error {
+    tower_lsp_server::jsonrpc::Error {
+        code: tower_lsp_server::jsonrpc::ErrorCode::InvalidParams,
+        message: message.into(),
+        data: None,
     }
 }
 

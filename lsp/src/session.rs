@@ -10,7 +10,8 @@ use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use hipop_analyzer::{Analysis, AnalysisHost, SourceFile};
+use hipop_analyzer::ide::PlanRun;
+use hipop_analyzer::{Analysis, AnalysisHost, Cancellable, Diagnostic, SourceFile};
 use tower_lsp_server::ls_types::{self as lsp, TextDocumentContentChangeEvent, Uri};
 
 use crate::convert::{Files, file_key};
@@ -39,6 +40,96 @@ pub(crate) struct Session {
     warnings: Vec<String>,
     /// What was last published per document, to skip identical re-publications.
     published: HashMap<Uri, (i32, Vec<lsp::Diagnostic>)>,
+    /// The last planner run of each problem, by analyzer key.
+    plans: Plans,
+    pub(crate) plan_settings: PlanSettings,
+    /// What the client can do that planning on save uses.
+    pub(crate) client_features: ClientFeatures,
+}
+
+/// The last planner run of each problem, by the analyzer's key of its file.
+pub(crate) type Plans = Arc<HashMap<String, Arc<PlanRecord>>>;
+
+/// A planner run kept for the editor: the run, the flaws of the best partial
+/// plan, and the texts it planned (hints and flaws are shown only while the
+/// files still have them).
+#[derive(Clone)]
+pub(crate) struct PlanRecord {
+    pub uri: Uri,
+    pub problem: SourceFile,
+    pub run: PlanRun,
+    pub flaws: Vec<Diagnostic>,
+    /// The files planned, the problem's first, with their texts then.
+    pub inputs: Vec<(SourceFile, Arc<str>)>,
+    /// The last plan found for the problem (by this run or an earlier one):
+    /// what the next run repairs when only the problem changed.
+    pub base: Option<Arc<PlanBase>>,
+}
+
+/// A plan found, with the texts of the files it was found for.
+pub(crate) struct PlanBase {
+    pub plan: hipop_analyzer::planner::output::SolvedPlan,
+    pub inputs: Vec<(SourceFile, Arc<str>)>,
+}
+
+impl PlanRecord {
+    /// Whether the files still have the texts planned.
+    pub(crate) fn is_current(&self, analysis: &Analysis) -> Cancellable<bool> {
+        for (file, text) in &self.inputs {
+            let now = analysis.file_text(*file)?;
+            if !Arc::ptr_eq(&now, text) && *now != **text {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// The name of the problem planned.
+    pub(crate) fn problem_name(&self) -> String {
+        match &self.run.plan {
+            Some(plan) => plan.problem.clone(),
+            None => self.uri.path().as_str().rsplit('/').next().unwrap_or_default().to_string(),
+        }
+    }
+}
+
+/// The settings of planning on save (`hipop.plan.*`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct PlanSettings {
+    pub on_save: bool,
+    pub time_limit: std::time::Duration,
+}
+
+impl Default for PlanSettings {
+    fn default() -> Self {
+        PlanSettings { on_save: true, time_limit: std::time::Duration::from_secs(5) }
+    }
+}
+
+impl PlanSettings {
+    /// Applies `{"plan": {"onSave": bool, "timeLimit": seconds}}`, also
+    /// under a `"hipop"` key (how clients send a section of their settings).
+    pub(crate) fn update(&mut self, settings: &serde_json::Value) {
+        let plan = settings.get("hipop").unwrap_or(settings).get("plan");
+        let Some(plan) = plan else { return };
+        if let Some(on) = plan.get("onSave").and_then(serde_json::Value::as_bool) {
+            self.on_save = on;
+        }
+        if let Some(secs) = plan.get("timeLimit").and_then(serde_json::Value::as_f64)
+            && secs.is_finite()
+        {
+            self.time_limit = std::time::Duration::from_secs_f64(secs.clamp(0.1, 3600.0));
+        }
+    }
+}
+
+/// What the client declared it can do, of what planning uses.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct ClientFeatures {
+    /// `window/workDoneProgress/create` and `$/progress`.
+    pub progress: bool,
+    /// `workspace/inlayHint/refresh`.
+    pub inlay_hint_refresh: bool,
 }
 
 /// A snapshot for one request about one file. It must not be held across an
@@ -49,6 +140,7 @@ pub(crate) struct Snapshot {
     pub encoding: Encoding,
     pub open: Arc<HashMap<String, Uri>>,
     pub indexes: HashMap<SourceFile, Arc<LineIndex>>,
+    pub plans: Plans,
 }
 
 impl Snapshot {
@@ -78,6 +170,7 @@ pub(crate) struct DiagnosticsJob {
     pub encoding: Encoding,
     pub open: Arc<HashMap<String, Uri>>,
     pub indexes: HashMap<SourceFile, Arc<LineIndex>>,
+    pub plans: Plans,
 }
 
 impl Default for Session {
@@ -95,6 +188,9 @@ impl Default for Session {
             disk: None,
             warnings: Vec::new(),
             published: HashMap::new(),
+            plans: Arc::default(),
+            plan_settings: PlanSettings::default(),
+            client_features: ClientFeatures::default(),
         }
     }
 }
@@ -122,7 +218,7 @@ impl Session {
         self.open = Arc::new(self.docs.iter().map(|(uri, d)| (d.key.clone(), uri.clone())).collect());
     }
 
-    fn is_open(&self, key: &str) -> bool {
+    pub(crate) fn is_open(&self, key: &str) -> bool {
         self.open.contains_key(key)
     }
 
@@ -324,6 +420,7 @@ impl Session {
             encoding: self.encoding,
             open: self.open.clone(),
             indexes: self.indexes(),
+            plans: self.plans.clone(),
         })
     }
 
@@ -354,7 +451,36 @@ impl Session {
             encoding: self.encoding,
             open: self.open.clone(),
             indexes: self.indexes(),
+            plans: self.plans.clone(),
         }
+    }
+
+    /// A snapshot of the analysis alone, for a background computation.
+    pub(crate) fn analysis(&self) -> Analysis {
+        self.host.analysis()
+    }
+
+    pub(crate) fn file(&self, key: &str) -> Option<SourceFile> {
+        self.host.file(key)
+    }
+
+    /// The client's URI of an analyzer file: the open document's, else its path's.
+    pub(crate) fn uri_of(&self, key: &str) -> Option<Uri> {
+        crate::convert::key_uri(key, &self.open)
+    }
+
+    pub(crate) fn plan(&self, key: &str) -> Option<Arc<PlanRecord>> {
+        self.plans.get(key).cloned()
+    }
+
+    /// Keeps the last run of a problem.
+    pub(crate) fn keep_plan(&mut self, key: String, record: PlanRecord) {
+        Arc::make_mut(&mut self.plans).insert(key, Arc::new(record));
+    }
+
+    /// Rereads a file from disk now (a plan the server wrote), unless open.
+    pub(crate) fn reread(&mut self, uri: &Uri) {
+        self.disk_changed(uri, false);
     }
 
     /// Records a publication; false if it would repeat the last one.

@@ -687,6 +687,14 @@ fn hostile_documents_leave_the_server_answering() {
     assert_eq!(diags[200]["code"], "I0008");
     assert_eq!(diags[200]["severity"], 3);
 
+    // Saving them plans nothing (no problem), and the plan requests answer.
+    for name in ["deep.pddl", "open.pddl", "close.pddl", "many.pddl"] {
+        client.notify("textDocument/didSave", json!({"textDocument": {"uri": uri(name)}}));
+        let whole = json!({"textDocument": {"uri": uri(name)}, "range": range(0, 0, 10, 0)});
+        assert_eq!(client.request("textDocument/inlayHint", whole), Value::Null);
+        assert_eq!(client.request("hipop/plan", json!({"uri": uri(name)})), Value::Null);
+        assert_eq!(client.request("hipop/planDiff", json!({"uri": uri(name)})), Value::Null);
+    }
     let symbols =
         client.request("textDocument/documentSymbol", json!({"textDocument": {"uri": uri("deep.pddl")}}));
     assert_eq!(symbols[0]["name"], "deep");

@@ -6,6 +6,7 @@ mod actions;
 pub mod diagnostics;
 mod outline;
 mod plan;
+mod planned;
 mod refs;
 mod rename;
 
@@ -14,6 +15,9 @@ use rowan::{TextRange, TextSize};
 
 pub use actions::{CodeAction, code_actions};
 pub use outline::{Fold, FoldKind, Highlight, document_highlights, folding_ranges};
+pub use planned::{
+    PlanHint, PlanHintKind, PlanRun, RepairSummary, plan_hints, plan_hover, step_text, summary,
+};
 pub use refs::{Occurrence, RefKind, occurrences};
 pub use rename::{RenameError, prepare_rename, rename};
 
