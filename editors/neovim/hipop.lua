@@ -10,12 +10,24 @@
 --                     a string is the path of the binary.
 --   vim.g.hipop_root_markers  files or folders whose folder is the workspace
 --                     (default { '.git', '.hg' }); without one, the file's folder.
+--   vim.g.hipop_plan_on_save  plan a problem when it is saved (default true)
+--   vim.g.hipop_plan_time_limit  the planner's budget in seconds (default 5)
+--
+-- Commands: :HipopPlan (the last plan of the problem, in a split),
+-- :HipopPlanDiff (what the last repair changed, side by side), :HipopWritePlan
+-- (writes NAME.plan beside the problem).
 
 local cmd = vim.g.hipop_cmd or { 'hipop', 'lsp' }
 if type(cmd) == 'string' then
   cmd = { cmd, 'lsp' }
 end
 local markers = vim.g.hipop_root_markers or { '.git', '.hg' }
+local init_options = {
+  plan = {
+    onSave = vim.g.hipop_plan_on_save ~= false and vim.g.hipop_plan_on_save ~= 0,
+    timeLimit = vim.g.hipop_plan_time_limit or 5,
+  },
+}
 
 -- The file names the server reads (docs/plan-formats.md): domains and
 -- problems, plans, JSON plans.
@@ -64,13 +76,87 @@ end
 -- vim.lsp.start, which does this from 0.8 on).
 local clients = {}
 
+-- The plan on save, inline: Neovim 0.10 and later show the server's inlay
+-- hints; older versions get them as virtual text at the end of their lines.
+local hints_ns = vim.api.nvim_create_namespace('hipop-plan')
+local native_hints = vim.lsp.inlay_hint ~= nil
+
+local function client_of(bufnr)
+  for _, client in pairs(vim.lsp.buf_get_clients(bufnr)) do
+    if client.name == 'hipop' then
+      return client
+    end
+  end
+end
+
+-- Asks the hints of a buffer and shows them as virtual text (Neovim < 0.10).
+local function show_hints(bufnr)
+  local client = client_of(bufnr)
+  if native_hints or not client or not vim.api.nvim_buf_is_loaded(bufnr) then
+    return
+  end
+  local params = {
+    textDocument = { uri = vim.uri_from_bufnr(bufnr) },
+    range = { start = { line = 0, character = 0 }, ['end'] = { line = vim.api.nvim_buf_line_count(bufnr), character = 0 } },
+  }
+  client.request('textDocument/inlayHint', params, function(err, hints)
+    if err or not vim.api.nvim_buf_is_loaded(bufnr) then
+      return
+    end
+    vim.api.nvim_buf_clear_namespace(bufnr, hints_ns, 0, -1)
+    local per_line = {}
+    for _, hint in ipairs(hints or {}) do
+      local label = type(hint.label) == 'string' and hint.label or ''
+      local line = hint.position.line
+      per_line[line] = per_line[line] and (per_line[line] .. '  ' .. label) or label
+    end
+    for line, text in pairs(per_line) do
+      if line < vim.api.nvim_buf_line_count(bufnr) then
+        vim.api.nvim_buf_set_extmark(bufnr, hints_ns, line, 0, { virt_text = { { text, 'Comment' } }, virt_text_pos = 'eol' })
+      end
+    end
+  end, bufnr)
+end
+
+-- The server says a run ended: refresh the hints of the problem's buffer.
+local function on_planned(_, result)
+  if not result or not result.uri then
+    return
+  end
+  local bufnr = vim.uri_to_bufnr(result.uri)
+  show_hints(bufnr)
+  -- For a user's autocmd (`data` from Neovim 0.8 on).
+  if not pcall(vim.api.nvim_exec_autocmds, 'User', { pattern = 'HipopPlanned', data = result, modeline = false }) then
+    vim.api.nvim_exec_autocmds('User', { pattern = 'HipopPlanned', modeline = false })
+  end
+end
+
+local function on_attach(client, bufnr)
+  if native_hints and vim.bo[bufnr].filetype == 'pddl' then
+    pcall(vim.lsp.inlay_hint.enable, true, { bufnr = bufnr })
+  elseif not native_hints then
+    vim.api.nvim_create_autocmd({ 'TextChanged', 'InsertLeave' }, {
+      group = group,
+      buffer = bufnr,
+      callback = function() show_hints(bufnr) end,
+    })
+  end
+end
+
 local function attach(bufnr)
   local path = vim.api.nvim_buf_get_name(bufnr)
   if path == '' or vim.bo[bufnr].buftype ~= '' then
     return
   end
   local root = root_of(path)
-  local config = { name = 'hipop', cmd = cmd, root_dir = root }
+  local config = {
+    name = 'hipop',
+    cmd = cmd,
+    root_dir = root,
+    init_options = init_options,
+    on_attach = on_attach,
+    handlers = { ['hipop/planned'] = on_planned },
+  }
   if vim.lsp.start then
     vim.lsp.start(config, { bufnr = bufnr })
     return
@@ -92,3 +178,76 @@ vim.api.nvim_create_autocmd({ 'BufReadPost', 'BufNewFile' }, {
   pattern = patterns,
   callback = function(args) attach(args.buf) end,
 })
+
+-- A scratch buffer showing `text`, in a split (`split`: 'new' or 'vnew').
+local function scratch(name, text, filetype, split)
+  vim.cmd(split or 'new')
+  local bufnr = vim.api.nvim_get_current_buf()
+  vim.bo[bufnr].buftype = 'nofile'
+  vim.bo[bufnr].bufhidden = 'wipe'
+  vim.bo[bufnr].swapfile = false
+  pcall(vim.api.nvim_buf_set_name, bufnr, name)
+  vim.api.nvim_buf_set_lines(bufnr, 0, -1, false, vim.split(text, '\n', true))
+  vim.bo[bufnr].filetype = filetype
+  vim.bo[bufnr].modifiable = false
+  return bufnr
+end
+
+-- Sends a request about the current buffer's problem; calls `on_result`
+-- with its result, or says why there is none.
+local function ask(method, on_result)
+  local bufnr = vim.api.nvim_get_current_buf()
+  local client = client_of(bufnr)
+  if not client then
+    vim.notify('hipop: no hipop server for this buffer', vim.log.levels.WARN)
+    return
+  end
+  local result, err = client.request_sync(method, { uri = vim.uri_from_bufnr(bufnr) }, 10000, bufnr)
+  if err or not result or result.err then
+    vim.notify('hipop: ' .. method .. ' failed: ' .. tostring(err or (result and result.err and result.err.message)), vim.log.levels.ERROR)
+    return
+  end
+  on_result(result.result, bufnr)
+end
+
+vim.api.nvim_create_user_command('HipopPlan', function()
+  ask('hipop/plan', function(plan)
+    if not plan then
+      vim.notify('hipop: no plan yet: save the problem to plan it', vim.log.levels.INFO)
+    elseif not plan.text then
+      vim.notify('hipop: ' .. plan.summary, vim.log.levels.INFO)
+    else
+      scratch('hipop://' .. plan.problem .. '.plan', plan.text, 'hipop-plan')
+    end
+  end)
+end, { desc = 'hipop: the last plan of this problem' })
+
+vim.api.nvim_create_user_command('HipopPlanDiff', function()
+  ask('hipop/planDiff', function(diff)
+    if not diff then
+      vim.notify('hipop: the last run was not a repair: change the problem and save it again', vim.log.levels.INFO)
+      return
+    end
+    scratch('hipop://before.plan', diff.old, 'hipop-plan')
+    vim.cmd('diffthis')
+    scratch('hipop://after.plan', diff.new, 'hipop-plan', 'vnew')
+    vim.cmd('diffthis')
+    vim.notify(string.format('hipop: instability %d, distance %d', diff.instability, diff.distance), vim.log.levels.INFO)
+  end)
+end, { desc = 'hipop: what the last repair of this problem changed' })
+
+vim.api.nvim_create_user_command('HipopWritePlan', function()
+  local bufnr = vim.api.nvim_get_current_buf()
+  local client = client_of(bufnr)
+  if not client then
+    vim.notify('hipop: no hipop server for this buffer', vim.log.levels.WARN)
+    return
+  end
+  local params = { command = 'hipop.writePlan', arguments = { vim.uri_from_bufnr(bufnr) } }
+  local result, err = client.request_sync('workspace/executeCommand', params, 10000, bufnr)
+  if err or not result or result.err then
+    vim.notify('hipop: ' .. tostring(err or (result and result.err and result.err.message)), vim.log.levels.ERROR)
+  else
+    vim.notify('hipop: wrote ' .. result.result.path, vim.log.levels.INFO)
+  end
+end, { desc = 'hipop: write the last plan of this problem beside it' })

@@ -28,9 +28,6 @@ fn neovim_with_the_shipped_config() {
         return;
     };
     eprintln!("running {version}");
-    let root = common::workspace_root();
-    let out = std::env::temp_dir().join(format!("hipop-nvim-{}.txt", std::process::id()));
-    let _ = std::fs::remove_file(&out);
     // A problem and its domain in a folder of their own, to change on disk.
     let scratch = std::env::temp_dir().join(format!("hipop-nvim-blocks-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&scratch);
@@ -38,46 +35,18 @@ fn neovim_with_the_shipped_config() {
     for file in ["domain.pddl", "problem.pddl"] {
         std::fs::copy(fixture("blocks").join(file), scratch.join(file)).expect("copying a fixture");
     }
-    let bin = hipop_bin().to_str().expect("UTF-8 path").replace('\'', "''");
-    let mut nvim = Command::new("nvim")
-        .args(["--headless", "-u", "NONE", "-i", "NONE", "-n"])
-        // The settings a user would put in init.lua: the binary, and no
-        // workspace markers, so that each fixture folder is its own workspace.
-        .args(["--cmd", &format!("let g:hipop_cmd = ['{bin}', 'lsp']")])
-        .args(["--cmd", "let g:hipop_root_markers = ['hipop-no-such-marker']"])
-        .arg("-c")
-        .arg(format!("luafile {}", root.join("editors/neovim/hipop.lua").display()))
-        .arg("-c")
-        .arg(format!(
-            "luafile {}",
-            Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/neovim/diagnostics.lua").display()
-        ))
-        .env("HIPOP_FILE", fixture("unicode/domain.pddl"))
-        // On `été` in `:precondition (été ?x)`.
-        .env("HIPOP_HOVER_LINE", "6")
-        .env("HIPOP_HOVER_CHAR", "20")
-        .env("HIPOP_PLAN", fixture("plan/problem.plan"))
-        .env("HIPOP_PROBLEM", scratch.join("problem.pddl"))
-        .env("HIPOP_DOMAIN", scratch.join("domain.pddl"))
-        .env("HIPOP_OUT", &out)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .spawn()
-        .expect("spawning nvim");
-    let deadline = Instant::now() + Duration::from_secs(120);
-    let status = loop {
-        if let Some(status) = nvim.try_wait().expect("waiting for nvim") {
-            break status;
-        }
-        if Instant::now() > deadline {
-            let _ = nvim.kill();
-            panic!("nvim did not finish in 120 s");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let report =
-        std::fs::read_to_string(&out).unwrap_or_else(|e| panic!("no report from nvim ({status}): {e}"));
-    let _ = std::fs::remove_file(&out);
+    let (report, status) = run_nvim(
+        "diagnostics.lua",
+        &[
+            ("HIPOP_FILE", fixture("unicode/domain.pddl")),
+            // On `été` in `:precondition (été ?x)`.
+            ("HIPOP_HOVER_LINE", "6".into()),
+            ("HIPOP_HOVER_CHAR", "20".into()),
+            ("HIPOP_PLAN", fixture("plan/problem.plan")),
+            ("HIPOP_PROBLEM", scratch.join("problem.pddl")),
+            ("HIPOP_DOMAIN", scratch.join("domain.pddl")),
+        ],
+    );
     let _ = std::fs::remove_dir_all(&scratch);
     let lines: Vec<&str> = report.lines().filter(|l| !l.starts_with("hover")).collect();
     let scratch_name = scratch.file_name().and_then(|n| n.to_str()).expect("a folder name");
@@ -97,5 +66,82 @@ fn neovim_with_the_shipped_config() {
         "{report}"
     );
     assert!(report.lines().any(|l| l == "hover predicate (été ?x)"), "{report}");
+    assert!(status.success(), "nvim exited with {status}");
+}
+
+/// Runs Neovim headless with the config users load (`editors/neovim/hipop.lua`,
+/// as is) and the test script `script` of `tests/neovim/`; returns what the
+/// script reported (`$HIPOP_OUT`) and how Neovim exited.
+fn run_nvim(script: &str, env: &[(&str, std::path::PathBuf)]) -> (String, std::process::ExitStatus) {
+    let root = common::workspace_root();
+    let out = std::env::temp_dir().join(format!("hipop-nvim-{script}-{}.txt", std::process::id()));
+    let _ = std::fs::remove_file(&out);
+    let bin = hipop_bin().to_str().expect("UTF-8 path").replace('\'', "''");
+    let mut nvim = Command::new("nvim")
+        .args(["--headless", "-u", "NONE", "-i", "NONE", "-n"])
+        // The settings a user would put in init.lua: the binary, and no
+        // workspace markers, so that each fixture folder is its own workspace.
+        .args(["--cmd", &format!("let g:hipop_cmd = ['{bin}', 'lsp']")])
+        .args(["--cmd", "let g:hipop_root_markers = ['hipop-no-such-marker']"])
+        .arg("-c")
+        .arg(format!("luafile {}", root.join("editors/neovim/hipop.lua").display()))
+        .arg("-c")
+        .arg(format!(
+            "luafile {}",
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/neovim").join(script).display()
+        ))
+        .envs(env.iter().map(|(k, v)| (*k, v.as_os_str())))
+        .env("HIPOP_OUT", &out)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .spawn()
+        .expect("spawning nvim");
+    let deadline = Instant::now() + Duration::from_secs(120);
+    let status = loop {
+        if let Some(status) = nvim.try_wait().expect("waiting for nvim") {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = nvim.kill();
+            panic!("nvim did not finish in 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let report =
+        std::fs::read_to_string(&out).unwrap_or_else(|e| panic!("no report from nvim ({status}): {e}"));
+    let _ = std::fs::remove_file(&out);
+    (report, status)
+}
+
+/// Saving a problem plans it: the plan's hints beside the problem's lines,
+/// `:HipopPlan` shows the plan; a rename from the problem changes the
+/// domain too.
+#[test]
+fn neovim_plans_on_save_and_renames() {
+    let Some(version) = nvim_version() else {
+        eprintln!("SKIP: neovim (nvim) not installed; .ci/run installs it");
+        return;
+    };
+    eprintln!("running {version}");
+    let scratch = std::env::temp_dir().join(format!("hipop-nvim-planning-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&scratch);
+    std::fs::create_dir_all(&scratch).expect("scratch folder");
+    for file in ["domain.pddl", "problem.pddl"] {
+        std::fs::copy(fixture("planning").join(file), scratch.join(file)).expect("copying a fixture");
+    }
+    let (report, status) = run_nvim("planning.lua", &[("HIPOP_PROBLEM", scratch.join("problem.pddl"))]);
+    let _ = std::fs::remove_dir_all(&scratch);
+    let lines: Vec<&str> = report.lines().collect();
+    assert_eq!(
+        lines,
+        [
+            "hint 1 plan: 3 actions, makespan 9.03, T s",
+            "hint 5 ← (observe r1 a p1) @ 0.01  ← (observe r1 b p2) @ 7.03",
+            "plan buffer: hipop-plan, modifiable false, has the move true",
+            "renamed in problem.pddl: 2 seen, 0 observed",
+            "renamed in domain.pddl: 2 seen, 0 observed",
+        ],
+        "{report}"
+    );
     assert!(status.success(), "nvim exited with {status}");
 }
