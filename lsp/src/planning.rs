@@ -22,7 +22,7 @@ use hipop_analyzer::plan::PlanFormat;
 use hipop_analyzer::planner::output::SolvedPlan;
 use hipop_analyzer::planner::{Config, PlannerLimits, Progress, Status};
 use hipop_analyzer::repair::RepairOptions;
-use hipop_analyzer::{Analysis, Cancellable, Diagnostic, Severity, SourceFile};
+use hipop_analyzer::{Analysis, AnalysisHost, Cancellable, Diagnostic, Related, Severity, SourceFile};
 use serde_json::{Value, json};
 use tokio::sync::{Mutex, mpsc};
 use tower_lsp_server::ls_types::{self as lsp, MessageType, NumberOrString, ProgressToken, Uri};
@@ -118,7 +118,7 @@ async fn plan_one(
                 // The receiver is gone only once the run is over.
                 let _ = tx.send(*p);
             };
-            guarded(|| run(&analysis, problem, job_uri, previous, settings, &cancel, &mut report))
+            guarded(move || run(analysis, problem, job_uri, previous, settings, &cancel, &mut report))
         });
         let outcome = loop {
             tokio::select! {
@@ -207,8 +207,13 @@ pub(crate) fn status_name(status: &Status) -> &'static str {
 /// One run: a repair of the last plan when only the problem changed since,
 /// else a plan from scratch; `None` when there is nothing to plan (no
 /// problem in the file).
+///
+/// The search runs on a database of its own, holding copies of the files
+/// planned: the session's snapshot is dropped first, so that an edit never
+/// waits for the search to notice that it is cancelled (a change of the
+/// session's inputs waits for every snapshot of them to be dropped).
 fn run(
-    analysis: &Analysis,
+    analysis: Analysis,
     problem: SourceFile,
     uri: Uri,
     previous: Option<Arc<PlanRecord>>,
@@ -225,7 +230,7 @@ fn run(
     let base = previous.as_ref().and_then(|p| p.base.clone());
     if let Some(prev) = &previous
         && !matches!(prev.run.status, Status::Limit(_))
-        && prev.is_current(analysis)?
+        && prev.is_current(&analysis)?
         && prev.inputs.len() == inputs.len()
     {
         // Nothing changed since: the same verdict (a limit reached is
@@ -248,6 +253,20 @@ fn run(
         };
         return Ok(Some(PlanRecord { uri, problem, run, flaws: Vec::new(), inputs, base }));
     }
+    // The run's own database: the files by their keys, so that what it
+    // says of them maps back to the session's.
+    let mut keys = Vec::new();
+    for &(f, _) in &inputs {
+        keys.push(analysis.file_path(f)?);
+    }
+    drop(analysis);
+    let mut host = AnalysisHost::new();
+    let own: Vec<SourceFile> =
+        keys.iter().zip(&inputs).map(|(k, (_, text))| host.set_file_text(k, text.clone())).collect();
+    let to_session = |file: SourceFile| own.iter().position(|&f| f == file).map(|i| inputs[i].0);
+    let analysis = host.analysis();
+    let problem_in_session = problem;
+    let problem = own[0];
     let config = Config::parse(Config::DEFAULT).unwrap_or_default();
     let limits = PlannerLimits {
         time: time_limit,
@@ -300,8 +319,21 @@ fn run(
         }
     };
     // What the planner says of the problem is information in the editor:
-    // the files are not wrong because no plan was found.
-    let flaws = flaws.into_iter().map(|d| Diagnostic { severity: Severity::Info, ..d }).collect();
+    // the files are not wrong because no plan was found. Only what is said
+    // of the files planned is kept.
+    let flaws = flaws
+        .into_iter()
+        .filter_map(|d| {
+            let file = to_session(d.file)?;
+            let related = d
+                .related
+                .into_iter()
+                .filter_map(|r| Some(Related { file: to_session(r.file)?, ..r }))
+                .collect();
+            Some(Diagnostic { severity: Severity::Info, file, related, fix: None, ..d })
+        })
+        .collect();
+    let problem = problem_in_session;
     let base = match (&run.status, &run.plan) {
         (Status::Solved, Some(plan)) => {
             Some(Arc::new(crate::session::PlanBase { plan: plan.clone(), inputs: inputs.clone() }))
