@@ -307,6 +307,11 @@ impl LanguageServer for Backend {
         let uri = &params.text_document.uri;
         requests::run(&self.session, uri, "codeAction", move |s| features::code_actions(s, range)).await
     }
+
+    async fn formatting(&self, params: DocumentFormattingParams) -> Result<Option<Vec<TextEdit>>> {
+        let uri = params.text_document.uri;
+        requests::run(&self.session, &uri, "formatting", features::formatting).await
+    }
 }
 
 /// A rename's answer: nothing for an unknown document, the client shows the
