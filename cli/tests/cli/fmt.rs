@@ -126,3 +126,18 @@ fn fmt_refuses_plans_and_missing_paths() {
     let o = hipop_in(&dir.0, &["fmt"], None);
     assert_eq!(status(&o), 2, "paths are required");
 }
+
+/// docs/formatting.md's example is what `hipop fmt` does.
+#[test]
+fn the_example_of_docs_formatting_md_is_hipop_fmt_output() {
+    let doc =
+        std::fs::read_to_string(workspace_root().join("docs/formatting.md")).expect("docs/formatting.md");
+    let example = doc.split("## Before and after").nth(1).expect("the example section");
+    let blocks: Vec<&str> =
+        example.split("```pddl\n").skip(1).take(2).map(|b| b.split("```").next().expect("a block")).collect();
+    let [before, after] = blocks[..] else { panic!("two pddl blocks: before and after") };
+    assert_ne!(before, after);
+    let o = hipop_in(&workspace_root(), &["fmt", "-"], Some(before));
+    assert_eq!(status(&o), 0, "stderr:\n{}", stderr(&o));
+    assert_eq!(stdout(&o), after, "docs/formatting.md: update the example's result");
+}
