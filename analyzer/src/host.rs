@@ -339,6 +339,21 @@ impl Analysis {
         self.with_db(|db| crate::ide::code_actions(db, file, range))
     }
 
+    /// The file formatted (docs/formatting.md); why not: a syntax error, a
+    /// plan file (only domains and problems are formatted).
+    pub fn format(&self, file: SourceFile) -> Cancellable<Result<String, crate::ide::FormatError>> {
+        self.with_db(|db| {
+            if crate::db::is_plan_file(db, file) {
+                return Err(crate::ide::FormatError {
+                    kind: crate::ide::FormatErrorKind::NotAModel,
+                    range: rowan::TextRange::empty(0.into()),
+                    message: "a plan: only domains and problems are formatted".to_string(),
+                });
+            }
+            crate::ide::format_parse(parse(db, file))
+        })
+    }
+
     pub fn folding_ranges(&self, file: SourceFile) -> Cancellable<Vec<crate::ide::Fold>> {
         self.with_db(|db| crate::ide::folding_ranges(db, file))
     }

@@ -153,3 +153,116 @@ fn corpus_files_check_without_errors() {
         insta::assert_snapshot!("corpus_warnings", warnings.join("\n"));
     }
 }
+
+/// The significant tokens of a text (atoms and parentheses), and its comments
+/// without their trailing whitespace, in order.
+fn tokens_and_comments(text: &str) -> (Vec<String>, Vec<String>) {
+    use hipop_analyzer::syntax::{NodeOrToken, SyntaxKind};
+    let (mut tokens, mut comments) = (Vec::new(), Vec::new());
+    for e in hipop_analyzer::syntax::parse(text).syntax().descendants_with_tokens() {
+        if let NodeOrToken::Token(t) = e {
+            match t.kind() {
+                SyntaxKind::Whitespace => {}
+                SyntaxKind::Comment => comments.push(t.text().trim_end().to_string()),
+                _ => tokens.push(t.text().to_string()),
+            }
+        }
+    }
+    (tokens, comments)
+}
+
+/// Every domain and problem of the corpora formats: formatting again changes
+/// nothing, the formatted file has the same atoms and parentheses in the same
+/// order, the same comments in the same order, no syntax error, and the same
+/// diagnostics (of the checks; each problem against its formatted domain),
+/// each on the same text. Files that are plans are refused, and only they.
+#[test]
+fn corpus_files_format_idempotently_and_safely() {
+    let Some(dir) = corpora() else {
+        eprintln!("SKIP corpus formatting test: ../shared/corpora is absent (set HIPOP_CORPORA to its path)");
+        return;
+    };
+    let started = std::time::Instant::now();
+    let mut files = Vec::new();
+    for folder in FOLDERS {
+        let path = dir.join(folder);
+        if path.is_dir() {
+            model_files(&path, false, &mut files);
+        } else {
+            eprintln!("SKIP corpus folder {folder}: absent from {}", dir.display());
+        }
+    }
+    let (mut original, mut formatted) = (AnalysisHost::new(), AnalysisHost::new());
+    let mut pairs = Vec::new();
+    let mut failures = Vec::new();
+    let (mut changed, mut plans, mut bytes) = (0, 0, 0);
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        bytes += text.len();
+        let rel = f.strip_prefix(&dir).unwrap().to_string_lossy().replace('\\', "/");
+        let once = match hipop_analyzer::ide::format(&text) {
+            Ok(once) => once,
+            Err(e) if e.kind == hipop_analyzer::ide::FormatErrorKind::NotAModel => {
+                plans += 1;
+                if text.to_ascii_lowercase().contains("(define") {
+                    failures.push(format!("{rel}: refused as not a model: {}", e.message));
+                }
+                continue;
+            }
+            Err(e) => {
+                failures.push(format!("{rel}: not formatted: {}", e.message));
+                continue;
+            }
+        };
+        changed += usize::from(once != text);
+        match hipop_analyzer::ide::format(&once) {
+            Ok(twice) if twice == once => {}
+            Ok(twice) => {
+                let line = once.lines().zip(twice.lines()).position(|(a, b)| a != b).map_or(0, |l| l + 1);
+                failures.push(format!("{rel}: formatting twice changes line {line} of the first result"));
+            }
+            Err(e) => failures.push(format!("{rel}: the formatted file does not format: {}", e.message)),
+        }
+        if !hipop_analyzer::syntax::parse(&once).errors.is_empty() {
+            failures.push(format!("{rel}: the formatted file has syntax errors"));
+        }
+        let (before, after) = (tokens_and_comments(&text), tokens_and_comments(&once));
+        if before.0 != after.0 {
+            failures.push(format!("{rel}: the formatted file's atoms and parentheses differ"));
+        }
+        if before.1 != after.1 {
+            failures.push(format!("{rel}: the formatted file's comments differ"));
+        }
+        let a = original.set_file_text(&rel, text.clone());
+        let b = formatted.set_file_text(&rel, once.clone());
+        pairs.push((rel, text, once, a, b));
+    }
+    let (original, formatted) = (original.analysis(), formatted.analysis());
+    // What a diagnostic says, and the atoms and parentheses it is on.
+    let said = |text: &str, d: &hipop_analyzer::Diagnostic| {
+        let on = tokens_and_comments(&text[d.range]).0.join(" ");
+        format!("{} {} `{on}`", d.code.id, d.message)
+    };
+    let mut diagnostics = 0;
+    for (rel, text, once, a, b) in &pairs {
+        let before: Vec<String> =
+            original.check_diagnostics(*a).unwrap().iter().map(|d| said(text, d)).collect();
+        let after: Vec<String> =
+            formatted.check_diagnostics(*b).unwrap().iter().map(|d| said(once, d)).collect();
+        diagnostics += before.len();
+        if before != after {
+            failures.push(format!("{rel}: the diagnostics differ:\n  before {before:?}\n  after  {after:?}"));
+        }
+    }
+    eprintln!(
+        "corpus formatting: {} files ({} KB), {changed} changed, {plans} plans refused, {diagnostics} diagnostics compared, in {:.1?}",
+        pairs.len(),
+        bytes / 1024,
+        started.elapsed()
+    );
+    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+    if FOLDERS.iter().all(|f| dir.join(f).is_dir()) {
+        assert!(pairs.len() > 1000, "expected the whole corpus, found {} files", pairs.len());
+        assert_eq!(plans, 1, "the IPC 2020 feature tests keep one plan as `.hddl`");
+    }
+}

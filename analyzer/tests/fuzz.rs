@@ -242,6 +242,20 @@ proptest! {
         a.document_symbols(f).unwrap();
         a.folding_ranges(f).unwrap();
         a.code_actions(f, TextRange::up_to(TextSize::of(text.as_str()))).unwrap();
+        if let Ok(once) = a.format(f).unwrap() {
+            // Formatting is idempotent and keeps every atom, parenthesis and comment.
+            prop_assert_eq!(hipop_analyzer::ide::format(&once), Ok(once.clone()));
+            let significant = |t: &str| -> Vec<String> {
+                syntax::parse(t)
+                    .syntax()
+                    .descendants_with_tokens()
+                    .filter_map(|e| e.into_token())
+                    .filter(|t| t.kind() != syntax::SyntaxKind::Whitespace)
+                    .map(|t| t.text().trim_end().to_string())
+                    .collect()
+            };
+            prop_assert_eq!(significant(&once), significant(&text));
+        }
         let run = some_run();
         a.plan_hints(f, &run).unwrap();
         let plans = [("p".to_string(), run.plan.as_ref().unwrap())];

@@ -215,6 +215,11 @@ fn exercise(model: &Model) -> (Vec<Diagnostic>, Vec<Diagnostic>) {
         analysis.document_symbols(file).expect("not cancelled");
         analysis.folding_ranges(file).expect("not cancelled");
         analysis.code_actions(file, TextRange::up_to(TextSize::of(text.as_str()))).expect("not cancelled");
+        // Formatted to the limit (and idempotent); beyond it, refused for the syntax error.
+        match analysis.format(file).expect("not cancelled") {
+            Ok(formatted) => assert_eq!(hipop_analyzer::ide::format(&formatted).as_ref(), Ok(&formatted)),
+            Err(e) => assert_eq!(e.kind, hipop_analyzer::ide::FormatErrorKind::Syntax, "{}", e.message),
+        }
         // Every name of the innermost formula and around it.
         for at in (0..text.len()).step_by(7) {
             let at = TextSize::from(at as u32);

@@ -3,6 +3,7 @@
 
 mod check;
 mod diff;
+mod fmt;
 mod inputs;
 mod plan;
 mod render;
@@ -105,6 +106,19 @@ enum Command {
     /// limit reached, 2 on a usage or input error (a model with errors, an
     /// old plan that cannot be read).
     Repair(RepairArgs),
+    /// Format domains and problems in place (docs/formatting.md).
+    ///
+    /// Folders are searched for `.pddl` and `.hddl` files, like `hipop check`
+    /// does; a file is written only when formatting changes it. Comments,
+    /// blank lines between elements and the case of names are kept; a file
+    /// with a syntax error is not formatted (the error is reported at its
+    /// place), nor is a plan. `hipop fmt -` formats standard input to standard
+    /// output, for editors. A summary goes to standard error.
+    ///
+    /// Exit status: 0 when every file is formatted (or, with `--check`,
+    /// already was), 1 with `--check` when some file would change, 2 on a
+    /// usage or I/O error or a file with a syntax error.
+    Fmt(FmtArgs),
     /// Run the language server on standard input and output (for editors).
     ///
     /// Exit status: 0 after the client's `exit` or the end of standard input,
@@ -150,6 +164,17 @@ impl LspArgs {
             None
         }
     }
+}
+
+#[derive(Debug, clap::Args)]
+struct FmtArgs {
+    /// Files and folders to format; `-` formats standard input to standard output.
+    #[arg(required = true, value_name = "PATH")]
+    paths: Vec<std::path::PathBuf>,
+    /// Write nothing: print each file that formatting would change
+    /// (`Would reformat: PATH`) and exit with 1 if there is one.
+    #[arg(long)]
+    check: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -517,6 +542,7 @@ fn main() -> ExitCode {
             };
             ExitCode::from(repair::run(&args.domain, &args.problem, &args.old_plan, &options))
         }
+        Command::Fmt(args) => ExitCode::from(fmt::run(&args.paths, &fmt::Options { check: args.check })),
         Command::Lsp(args) => {
             if let Some(transport) = args.unsupported_transport() {
                 let mut cli = <Cli as clap::CommandFactory>::command();

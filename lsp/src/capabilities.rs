@@ -41,6 +41,7 @@ pub(crate) fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities
             commands: vec![WRITE_PLAN.to_string()],
             work_done_progress_options: lsp::WorkDoneProgressOptions::default(),
         }),
+        document_formatting_provider: Some(lsp::OneOf::Left(true)),
         workspace: Some(lsp::WorkspaceServerCapabilities {
             workspace_folders: Some(lsp::WorkspaceFoldersServerCapabilities {
                 supported: Some(true),

@@ -172,6 +172,32 @@ pub(crate) fn code_actions(
     Ok(Some(actions))
 }
 
+/// The document formatted (`hipop fmt`'s layout): one edit replacing the
+/// lines that change, none when it is formatted already; no answer for a
+/// document with a syntax error, or a plan.
+pub(crate) fn formatting(snap: &Snapshot) -> Cancellable<Option<Vec<lsp::TextEdit>>> {
+    let file = snap.files().get(snap.file)?;
+    let Ok(formatted) = snap.analysis.format(snap.file)? else { return Ok(None) };
+    let (old, new) = (file.text.as_bytes(), formatted.as_bytes());
+    if old == new {
+        return Ok(Some(Vec::new()));
+    }
+    // Whole lines: the common prefix up to a line start, the common suffix from one.
+    let common = old.iter().zip(new).take_while(|(a, b)| a == b).count();
+    let start = old[..common].iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let limit = (old.len() - start).min(new.len() - start);
+    let same_end = old.iter().rev().zip(new.iter().rev()).take(limit).take_while(|(a, b)| a == b).count();
+    let suffix = old.len() - same_end;
+    let tail = if suffix == 0 || old[suffix - 1] == b'\n' {
+        same_end
+    } else {
+        old[suffix..].iter().position(|&b| b == b'\n').map_or(0, |i| same_end - i - 1)
+    };
+    let (old_end, new_end) = (old.len() - tail, new.len() - tail);
+    let range = TextRange::new((start as u32).into(), (old_end as u32).into());
+    Ok(Some(vec![lsp::TextEdit::new(file.range(range), formatted[start..new_end].to_string())]))
+}
+
 /// The declarations of the workspace whose names match `query`.
 pub(crate) fn workspace_symbols(
     snap: &WorkspaceSnapshot,

@@ -412,6 +412,11 @@ impl LanguageServer for Backend {
         let uri = &params.text_document.uri;
         requests::run(&self.session, uri, "codeAction", move |s| features::code_actions(s, range)).await
     }
+
+    async fn formatting(&self, params: DocumentFormattingParams) -> Result<Option<Vec<TextEdit>>> {
+        let uri = params.text_document.uri;
+        requests::run(&self.session, &uri, "formatting", features::formatting).await
+    }
 }
 
 fn invalid_params(message: String) -> tower_lsp_server::jsonrpc::Error {

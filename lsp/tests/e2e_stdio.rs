@@ -700,3 +700,83 @@ fn hostile_documents_leave_the_server_answering() {
     assert_eq!(symbols[0]["name"], "deep");
     client.shutdown();
 }
+
+/// The text with LSP edits applied (positions in UTF-16 code units).
+fn apply_edits(text: &str, edits: &Value) -> String {
+    let offset = |pos: &Value| {
+        let (line, character) = (pos["line"].as_u64().unwrap() as usize, pos["character"].as_u64().unwrap());
+        let start: usize = text.split_inclusive('\n').take(line).map(str::len).sum();
+        let mut units = 0;
+        let rest = &text[start..];
+        let col = rest.char_indices().find(|(_, c)| {
+            let found = units >= character;
+            units += c.len_utf16() as u64;
+            found
+        });
+        start + col.map_or(rest.len(), |(i, _)| i)
+    };
+    let mut edits: Vec<&Value> = edits.as_array().expect("edits").iter().collect();
+    edits.sort_by_key(|e| std::cmp::Reverse(offset(&e["range"]["start"])));
+    let mut out = text.to_string();
+    for e in edits {
+        let (a, b) = (offset(&e["range"]["start"]), offset(&e["range"]["end"]));
+        out.replace_range(a..b, e["newText"].as_str().expect("newText"));
+    }
+    out
+}
+
+/// `textDocument/formatting` gives what `hipop fmt` writes, as edits of the
+/// lines that change; nothing to do on a formatted document; no answer on a
+/// document with a syntax error, or a plan.
+#[test]
+fn formatting_gives_what_hipop_fmt_writes() {
+    use std::io::Write;
+    let mut client = Client::spawn();
+    let init = client.initialize(&fixture("blocks"), json!({}));
+    assert_eq!(init["capabilities"]["documentFormattingProvider"], true);
+    let (uri, _) = read("blocks/domain.pddl");
+    // Laid out carelessly, with a comment and a name out of the ASCII range.
+    let text = "; Blocks.\n(define (domain blocks) (:requirements :strips :typing)\n(:types block) ; the blocks\n(:predicates (on-table ?b - block) (clear ?b - block) (held ?b - block) (été ?b - block))\n(:action pick-up :parameters (?b - block) :precondition (and (on-table ?b) (clear ?b)) :effect (and (held ?b) (not (on-table ?b)))))\n";
+    client.open(&uri, text);
+    client.diagnostics(&uri, Some(1));
+    let format = |client: &mut Client| {
+        client.request(
+            "textDocument/formatting",
+            json!({"textDocument": {"uri": uri}, "options": {"tabSize": 2, "insertSpaces": true}}),
+        )
+    };
+    let edits = format(&mut client);
+    assert_eq!(edits.as_array().map(Vec::len), Some(1), "{edits}");
+    // The first line does not change: it is not in the edit.
+    assert_eq!(edits[0]["range"]["start"], json!({"line": 1, "character": 0}));
+    let formatted = apply_edits(text, &edits);
+
+    let mut fmt = std::process::Command::new(common::hipop_bin())
+        .args(["fmt", "-"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("hipop fmt runs");
+    fmt.stdin.take().expect("stdin").write_all(text.as_bytes()).expect("written");
+    let out = fmt.wait_with_output().expect("hipop fmt exits");
+    assert!(out.status.success());
+    assert_eq!(formatted, String::from_utf8(out.stdout).expect("UTF-8"));
+
+    // Formatted, it stays as it is.
+    client.change(&uri, 2, range(0, 0, 5, 0), &formatted);
+    client.diagnostics(&uri, Some(2));
+    assert_eq!(format(&mut client), json!([]));
+    // A syntax error: no answer.
+    client.change(&uri, 3, range(0, 0, 0, 0), "(");
+    client.diagnostics(&uri, Some(3));
+    assert_eq!(format(&mut client), Value::Null);
+    // A plan is not formatted.
+    let (plan, plan_text) = read("plan/problem.plan");
+    client.open(&plan, &plan_text);
+    let answer = client.request(
+        "textDocument/formatting",
+        json!({"textDocument": {"uri": plan}, "options": {"tabSize": 2, "insertSpaces": true}}),
+    );
+    assert_eq!(answer, Value::Null);
+    client.shutdown();
+}

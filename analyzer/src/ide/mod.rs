@@ -1,9 +1,10 @@
 //! What the shells ask, in byte offsets: a file's diagnostics, document
 //! symbols, hover, go to definition, find references, document highlights,
-//! folding ranges, rename. Plain data out; the server converts to LSP.
+//! folding ranges, rename, formatting. Plain data out; the server converts to LSP.
 
 mod actions;
 pub mod diagnostics;
+mod format;
 mod outline;
 mod plan;
 mod planned;
@@ -14,6 +15,7 @@ use crate::model::Str;
 use rowan::{TextRange, TextSize};
 
 pub use actions::{CodeAction, code_actions};
+pub use format::{FormatError, FormatErrorKind, WIDTH as FORMAT_WIDTH, format, format_parse};
 pub use outline::{Fold, FoldKind, Highlight, document_highlights, folding_ranges};
 pub use planned::{
     PlanHint, PlanHintKind, PlanRun, RepairSummary, plan_hints, plan_hover, step_text, summary,

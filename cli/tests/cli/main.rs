@@ -44,6 +44,7 @@ fn assert_no_panic(o: &Output) {
 
 mod check;
 mod diff;
+mod fmt;
 mod hostile;
 mod lsp;
 mod plan;
@@ -116,7 +117,7 @@ fn docs_cli_md_documents_every_command_and_flag() {
         .filter_map(|l| l.split_whitespace().next())
         .filter(|c| *c != "help")
         .collect();
-    assert_eq!(commands, ["check", "diff", "validate", "plan", "repair", "lsp"]);
+    assert_eq!(commands, ["check", "diff", "validate", "plan", "repair", "fmt", "lsp"]);
     for command in commands {
         assert!(doc.contains(&format!("## `hipop {command}`")), "no section for `hipop {command}`");
         let help = stdout(&hipop(&[command, "--help"]));
