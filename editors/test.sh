@@ -3,7 +3,10 @@
 #   - editors/helix/languages.toml parses as TOML and declares the hipop-pddl,
 #     hipop-plan and hipop-plan-json languages with the hipop server; the
 #     queries it needs exist (needs python3 >= 3.11)
-#   - editors/vscode: npm ci && npm run compile && npm test; the end-to-end
+#   - editors/vscode: npm ci && npm run compile && npm test, whose
+#     test/lsp.test.js drives `hipop lsp` (HIPOP_BIN, else the workspace's
+#     target/debug/hipop, which scripts/test's `cargo test` builds first; it
+#     is skipped, and says so, without either); the end-to-end
 #     test in a real VS Code (editors/vscode/e2e/run, run before each
 #     release: it installs code-server) is only checked to parse here
 # Exits non-zero on any failure. Missing node/npm (or python3 >= 3.11) is
@@ -53,6 +56,21 @@ if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
   exit 0
 fi
 echo "node $(node --version), npm $(npm --version 2>/dev/null)"
+
+# The server of test/lsp.test.js: the workspace's build (in CARGO_TARGET_DIR
+# when it is set).
+if [ -z "${HIPOP_BIN:-}" ]; then
+  target="${CARGO_TARGET_DIR:-$here/../target}"
+  if [ -x "$target/debug/hipop" ]; then
+    HIPOP_BIN="$(cd "$target/debug" && pwd)/hipop"
+    export HIPOP_BIN
+  fi
+fi
+if [ -n "${HIPOP_BIN:-}" ]; then
+  echo "server for test/lsp.test.js: $HIPOP_BIN"
+else
+  echo "SKIP (test/lsp.test.js): no hipop binary; build it (cargo build -p hipop) or set HIPOP_BIN"
+fi
 
 cd "$here/vscode"
 npm ci --no-audit --no-fund

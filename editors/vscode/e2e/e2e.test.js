@@ -1,7 +1,8 @@
 'use strict';
 // The extension in a real VS Code: code-server, a fresh profile with the
 // packaged extension, `hipop.server.path` pointing at the hipop binary under
-// test, a workspace holding a copy of one broken sample, and Chromium driven
+// test, a workspace holding a copy of one broken sample and of a domain and
+// problem that the server plans on save, and Chromium driven
 // by playwright-core doing what a user does. Run by ./run, which builds and
 // installs everything and sets the environment read below.
 
@@ -25,6 +26,8 @@ const CODE_SERVER = required('E2E_CODE_SERVER');
 const CHROMIUM = required('CHROMIUM');
 
 const SAMPLE = 'E0102-undefined-predicate.pddl';
+/** A domain and a problem that the server plans on save (3 actions). */
+const PLANNING = path.join(ROOT, 'lsp', 'tests', 'fixtures', 'planning');
 const CHANNEL = 'hipop Language Server';
 /** One wait for something VS Code shows (the machine may be busy). */
 const SHOWN = 60_000;
@@ -72,6 +75,9 @@ let page;
 test.before(async () => {
   for (const dir of Object.values(dirs)) fs.mkdirSync(dir, { recursive: true });
   fs.copyFileSync(path.join(ROOT, 'samples', 'broken', SAMPLE), path.join(dirs.workspace, SAMPLE));
+  for (const file of ['domain.pddl', 'problem.pddl']) {
+    fs.copyFileSync(path.join(PLANNING, file), path.join(dirs.workspace, file));
+  }
   for (const [file, settings] of [[userSettingsFile, userSettings], [machineSettingsFile, machineSettings]]) {
     fs.mkdirSync(path.dirname(file), { recursive: true });
     fs.writeFileSync(file, JSON.stringify(settings, null, 2));
@@ -166,14 +172,20 @@ function check(name, body) {
   });
 }
 
-/** Runs a command from the command palette, by its title. */
+/**
+ * Runs a command from the command palette, by its title: the one whose
+ * label is `title` (code-server may add the remote's address in
+ * parentheses), not one that begins like it.
+ */
 async function runCommand(title) {
   await page.keyboard.press('F1');
   const input = page.locator('.quick-input-widget input');
   await input.waitFor({ timeout: SHOWN });
   await input.fill(`>${title}`);
-  await page.locator('.quick-input-list .monaco-list-row', { hasText: title }).first().waitFor({ timeout: SHOWN });
-  await input.press('Enter');
+  const label = page.locator('.quick-input-list .monaco-list-row .label-name', { hasText: title });
+  const exact = label.filter({ hasText: new RegExp(`^\\s*${title.replace(/[.*+?^${}()|[\]\\]/g, '\\$&')}(\\s*\\([^)]*\\))?\\s*$`) });
+  await exact.first().waitFor({ timeout: SHOWN });
+  await exact.first().click();
 }
 
 /** Retries `check` until it passes, for at most SHOWN ms. */
@@ -236,6 +248,52 @@ check('the output channel shows the command line the server was started with', a
   await output.locator('.view-lines', { hasText: 'Starting' }).waitFor({ timeout: SHOWN });
   const text = await editorText(output);
   assert.ok(text.split('\n').includes(`Starting ${HIPOP} lsp`), text);
+});
+
+check('saving a problem plans it: its summary shows after (problem …), and in the status bar', async () => {
+  await page.getByRole('treeitem', { name: 'problem.pddl' }).click({ timeout: SHOWN });
+  const editor = page.locator('.editor-instance .monaco-editor', { hasText: 'survey-two' }).first();
+  await editor.locator('.view-lines', { hasText: '(:goal' }).waitFor({ timeout: SHOWN });
+  await editor.locator('.view-lines').click();
+  await page.keyboard.press('Control+S');
+  // An inlay hint: text in the line, after `(define (problem survey-two)`.
+  const line = editor.locator('.view-line', { hasText: 'plan: 3 actions' });
+  await line.first().waitFor({ timeout: SHOWN });
+  const text = (await line.first().innerText()).replace(/\u00a0/g, ' ');
+  assert.match(text, /\(define \(problem survey-two\)\s*plan: 3 actions, makespan 9\.03, [\d.]+ s/, text);
+  const goals = await editorText(editor);
+  assert.match(goals, /\(observed p1\)\s*← \(observe r1 a p1\) @ 0\.01/, goals);
+  await page.locator('.statusbar-item', { hasText: 'plan: 3 actions' }).first().waitFor({ timeout: SHOWN });
+});
+
+check('hipop: Show Plan opens the plan in a read-only editor', async () => {
+  await runCommand('hipop: Show Plan');
+  const tab = page.locator('.tab', { hasText: 'survey-two.plan' });
+  await tab.first().waitFor({ timeout: SHOWN });
+  const plan = page.locator('.editor-instance .monaco-editor', { hasText: '(move r1 a b)' }).first();
+  await plan.waitFor({ timeout: SHOWN });
+  const text = await editorText(plan);
+  assert.match(text, /2\.02: \(move r1 a b\) \[5\]/, text);
+  // Typing changes nothing: VS Code says the editor is read-only.
+  await plan.locator('.view-lines').click();
+  await page.keyboard.type('x');
+  await page.locator('.monaco-editor-overlaymessage', { hasText: 'read-only' }).first().waitFor({ timeout: SHOWN });
+  assert.equal(await editorText(plan), text);
+});
+
+check('hipop: Show Plan Timeline shows the SVG timeline in a panel', async () => {
+  // The commands are offered for domains and problems: back to the problem.
+  await page.getByRole('treeitem', { name: 'problem.pddl' }).click({ timeout: SHOWN });
+  await runCommand('hipop: Show Plan Timeline');
+  await page.locator('.tab', { hasText: 'Timeline: survey-two' }).first().waitFor({ timeout: SHOWN });
+  // A webview: the page in an iframe inside VS Code's iframe.
+  const view = page.frameLocator('iframe.webview.ready').frameLocator('iframe#active-frame');
+  await view.locator('p', { hasText: 'plan: 3 actions' }).waitFor({ timeout: SHOWN });
+  const image = view.locator('img[src^="data:image/svg+xml;base64,"]');
+  await image.waitFor({ timeout: SHOWN });
+  // Loaded under the page's policy, and drawn.
+  const width = await image.evaluate((img) => img.naturalWidth);
+  assert.ok(width > 100, `the image is ${width} px wide`);
 });
 
 check('a server that refuses its arguments: one error that says why, and its stderr in the output channel', async () => {

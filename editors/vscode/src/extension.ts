@@ -3,6 +3,7 @@
 import * as vscode from 'vscode';
 import {
   CloseAction,
+  DidChangeConfigurationNotification,
   DocumentFilter,
   ErrorAction,
   ErrorHandler,
@@ -11,6 +12,8 @@ import {
   LanguageClientOptions,
   ServerOptions,
 } from 'vscode-languageclient/node';
+import { PlanViews } from './plan';
+import { initializationOptions, planConfiguration } from './planProtocol';
 import { resolveServerCommand } from './serverPath';
 
 const PDDL_LANGUAGE_ID = 'hipop-pddl';
@@ -48,6 +51,7 @@ const INSTALL_HINT = 'Install it with "cargo install --path cli" from the hipop 
 let client: LanguageClient | undefined;
 let outputChannel: vscode.OutputChannel;
 let traceChannel: vscode.OutputChannel;
+let planViews: PlanViews | undefined;
 // Serialises start/stop so that rapid setting changes cannot race.
 let pending: Promise<void> = Promise.resolve();
 
@@ -55,6 +59,8 @@ export function activate(context: vscode.ExtensionContext): Promise<void> {
   outputChannel = vscode.window.createOutputChannel(CLIENT_NAME);
   traceChannel = vscode.window.createOutputChannel(`${CLIENT_NAME} Trace`);
   context.subscriptions.push(outputChannel, traceChannel);
+  planViews = new PlanViews(() => client);
+  context.subscriptions.push(planViews);
 
   context.subscriptions.push(
     vscode.commands.registerCommand('hipop.restartServer', () => enqueue(restart)),
@@ -62,6 +68,8 @@ export function activate(context: vscode.ExtensionContext): Promise<void> {
       if (e.affectsConfiguration('hipop.server')) {
         outputChannel.appendLine('hipop.server.* changed; restarting the language server.');
         void enqueue(restart);
+      } else if (e.affectsConfiguration('hipop.plan')) {
+        void enqueue(sendPlanSettings);
       }
     }),
   );
@@ -130,11 +138,15 @@ async function start(): Promise<void> {
     // A failed start is reported once, below, with what the server printed.
     initializationFailedHandler: () => false,
     errorHandler: errors,
+    // Planning on save; a change of these settings is sent as it is made
+    // (sendPlanSettings), without a restart.
+    initializationOptions: initializationOptions(config),
   };
 
   const next = new HipopClient(serverOptions, clientOptions, errors);
   errors.afterStart = next.createDefaultErrorHandler();
   client = next;
+  planViews?.attach(next);
   try {
     await next.start();
     if (!next.isRunning()) {
@@ -161,6 +173,25 @@ async function start(): Promise<void> {
     void showStartError(
       `hipop: the language server '${commandLine}' failed to start: ${said ? `it said "${said}"` : errorMessage(err)}. Check the "hipop.server.path" and "hipop.server.extraArgs" settings.`,
     );
+  }
+}
+
+/**
+ * Sends the `hipop.plan.*` settings to the running server
+ * (`workspace/didChangeConfiguration`). Not through the client's
+ * `synchronize.configurationSection`: that sends each change of any `hipop`
+ * setting, also to a server being restarted for a new `hipop.server.path`,
+ * and shows its failure as an error.
+ */
+async function sendPlanSettings(): Promise<void> {
+  if (!client?.isRunning()) {
+    return; // the next start reads them
+  }
+  const settings = planConfiguration(vscode.workspace.getConfiguration('hipop'));
+  try {
+    await client.sendNotification(DidChangeConfigurationNotification.type, { settings });
+  } catch (err) {
+    outputChannel.appendLine(`Cannot send the hipop.plan settings to the server: ${String(err)}`);
   }
 }
 

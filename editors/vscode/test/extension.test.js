@@ -17,6 +17,49 @@ const commands = new Map();
 const configListeners = [];
 const settings = { 'server.path': 'hipop-surely-not-installed', 'server.extraArgs': [] };
 const disposable = { dispose() {} };
+const editorListeners = [];
+const contentProviders = new Map();
+const panels = [];
+let statusBar;
+
+/** Enough of `vscode.Uri` for the plan views: parse, from, toString, its parts. */
+class Uri {
+  constructor({ scheme, authority = '', path = '', query = '', fragment = '' }) {
+    Object.assign(this, { scheme, authority, path, query, fragment });
+  }
+  static parse(text) {
+    const m = /^([a-z][\w+.-]*):(?:\/\/([^/?#]*))?([^?#]*)(?:\?([^#]*))?(?:#(.*))?$/i.exec(text);
+    if (!m) throw new Error(`not a URI: ${text}`);
+    const [, scheme, authority = '', path, query = '', fragment = ''] = m;
+    return new Uri({ scheme, authority, path: decodeURIComponent(path), query: decodeURIComponent(query), fragment });
+  }
+  static from(parts) {
+    return new Uri(parts);
+  }
+  static file(path) {
+    return new Uri({ scheme: 'file', path });
+  }
+  toString() {
+    const authority = this.authority || this.scheme === 'file' ? `//${this.authority}` : '';
+    const query = this.query ? `?${encodeURIComponent(this.query)}` : '';
+    return `${this.scheme}:${authority}${encodeURI(this.path)}${query}`;
+  }
+}
+
+class EventEmitter {
+  constructor() {
+    this.listeners = [];
+    this.event = (listener) => {
+      this.listeners.push(listener);
+      return disposable;
+    };
+  }
+  fire(value) {
+    events.push({ kind: 'changed', uri: value.toString() });
+    this.listeners.forEach((l) => l(value));
+  }
+  dispose() {}
+}
 
 // Anything the client library touches at load time that we do not model
 // becomes an inert class, so that `require('vscode-languageclient/node')` works.
@@ -41,16 +84,56 @@ const vscodeStub = new Proxy(
         events.push({ kind: 'error', text: message, items });
         return undefined;
       },
+      showWarningMessage: async (message, ...items) => {
+        events.push({ kind: 'warning', text: message, items });
+        return undefined;
+      },
+      showInformationMessage: async (message, ...items) => {
+        events.push({ kind: 'info', text: message, items });
+        return undefined;
+      },
+      createStatusBarItem: (id, alignment, priority) => {
+        statusBar = { id, alignment, priority, visible: false, show() { this.visible = true; }, hide() { this.visible = false; }, dispose() {} };
+        return statusBar;
+      },
+      onDidChangeActiveTextEditor: (listener) => {
+        editorListeners.push(listener);
+        return disposable;
+      },
+      activeTextEditor: undefined,
+      showTextDocument: async (doc, options) => {
+        events.push({ kind: 'show', uri: doc.uri.toString(), options });
+      },
+      createWebviewPanel: (viewType, title, showOptions, options) => {
+        const panel = {
+          viewType, title, showOptions, options, webview: { html: '' },
+          reveal() {}, onDidDispose: () => disposable, dispose() {},
+        };
+        panels.push(panel);
+        return panel;
+      },
     },
     commands: {
       registerCommand: (id, fn) => {
         commands.set(id, fn);
         return disposable;
       },
-      executeCommand: async () => undefined,
+      executeCommand: async (id, ...args) => {
+        events.push({ kind: 'command', id, args });
+        return undefined;
+      },
     },
     workspace: {
       workspaceFolders: undefined,
+      textDocuments: [],
+      registerTextDocumentContentProvider: (scheme, provider) => {
+        contentProviders.set(scheme, provider);
+        return disposable;
+      },
+      openTextDocument: async (uri) => {
+        const text = await contentProviders.get(uri.scheme).provideTextDocumentContent(uri);
+        return { uri, text };
+      },
       getConfiguration: (section) => {
         assert.equal(section, 'hipop');
         return { get: (key, dflt) => (key in settings ? settings[key] : dflt) };
@@ -60,6 +143,10 @@ const vscodeStub = new Proxy(
         return disposable;
       },
     },
+    Uri,
+    EventEmitter,
+    StatusBarAlignment: { Left: 1, Right: 2 },
+    ViewColumn: { Active: -1, Beside: -2 },
   },
   inert,
 );
@@ -67,12 +154,29 @@ const vscodeStub = new Proxy(
 // The clients constructed, and how the next one's start ends.
 const clients = [];
 let serverRuns = 'exit';
+// What the fake server answers to a request: a function of the method and params.
+let answer = async () => null;
 class FakeLanguageClient {
   constructor(id, name, serverOptions, clientOptions) {
     this.serverOptions = serverOptions;
     this.clientOptions = clientOptions;
     this.messages = [];
+    this.notifications = new Map();
+    this.requests = [];
+    this.notificationsSent = [];
     clients.push(this);
+  }
+  onNotification(method, handler) {
+    this.notifications.set(method, handler);
+    return disposable;
+  }
+  async sendNotification(type, params) {
+    this.notificationsSent.push({ method: type.method, params });
+  }
+  async sendRequest(type, params) {
+    const method = typeof type === 'string' ? type : type.method;
+    this.requests.push({ method, params });
+    return answer(method, params);
   }
   error(message, data, showNotification = true) {
     this.messages.push({ message, showNotification });
@@ -278,4 +382,214 @@ test('the selector patterns name exactly the files the server reads as plans', (
   } finally {
     process.emitWarning = emitWarning;
   }
+});
+
+// Planning on save: the settings reach the server, and the plan views ask it.
+
+const PROBLEM = 'file:///w/survey/problem.pddl';
+const SOLVED = {
+  uri: PROBLEM,
+  problem: 'survey-two',
+  status: 'solved',
+  summary: 'plan: 3 actions, makespan 9.03, 0.01 s',
+  current: true,
+  repaired: false,
+  expanded: 12,
+  seconds: 0.01,
+  format: 'val',
+  text: '0.01: (observe r1 a p1) [2]\n',
+  svg: '<?xml version="1.0"?>\n<svg xmlns="http://www.w3.org/2000/svg"/>\n',
+};
+const infos = () => events.filter((e) => e.kind === 'info');
+const warnings = () => events.filter((e) => e.kind === 'warning');
+const openProblem = () => {
+  vscodeStub.window.activeTextEditor = { document: { uri: Uri.parse(PROBLEM), languageId: 'hipop-pddl' } };
+};
+
+/** Restarts on a stand-in server that runs; resolves with the new client. */
+async function running(t) {
+  settings['server.path'] = fakeServer(t, 'exit 0');
+  settings['server.extraArgs'] = [];
+  serverRuns = 'ok';
+  await commands.get('hipop.restartServer')();
+  await settle();
+  return clients.at(-1);
+}
+
+test('the server starts with the plan settings, and gets them again when they change, without a restart', async (t) => {
+  settings['plan.onSave'] = false;
+  settings['plan.timeLimit'] = 2.5;
+  const client = await running(t);
+  assert.deepEqual(client.clientOptions.initializationOptions, { plan: { onSave: false, timeLimit: 2.5 } });
+  // Not the client's synchronization: it would also send the settings to a
+  // server being restarted for hipop.server.*, and pop up its failure.
+  assert.equal(client.clientOptions.synchronize, undefined);
+  const count = clients.length;
+  settings['plan.timeLimit'] = 0;
+  configListeners[0]({ affectsConfiguration: (s) => s === 'hipop.plan' || s === 'hipop' });
+  await settle();
+  assert.equal(clients.length, count, 'no restart');
+  assert.deepEqual(client.notificationsSent, [
+    { method: 'workspace/didChangeConfiguration', params: { settings: { hipop: { plan: { onSave: false, timeLimit: 0.1 } } } } },
+  ]);
+  // A server that is not running gets them when it starts.
+  client.running = false;
+  configListeners[0]({ affectsConfiguration: (s) => s === 'hipop.plan' || s === 'hipop' });
+  await settle();
+  assert.equal(client.notificationsSent.length, 1);
+  delete settings['plan.onSave'];
+  delete settings['plan.timeLimit'];
+});
+
+test('hipop/planned shows its summary in the status bar while its problem is active', async (t) => {
+  const client = await running(t);
+  openProblem();
+  editorListeners.forEach((l) => l());
+  assert.equal(statusBar.visible, false, 'nothing before a run');
+  client.notifications.get('hipop/planned')({ uri: PROBLEM, status: 'solved', summary: SOLVED.summary, repaired: false });
+  assert.equal(statusBar.visible, true);
+  assert.equal(statusBar.text, '$(check) plan: 3 actions, makespan 9.03, 0.01 s');
+  assert.deepEqual(statusBar.command, { title: 'Show Plan', command: 'hipop.showPlan', arguments: [PROBLEM] });
+  // Another editor: hidden; back: shown.
+  vscodeStub.window.activeTextEditor = undefined;
+  editorListeners.forEach((l) => l());
+  assert.equal(statusBar.visible, false);
+  openProblem();
+  editorListeners.forEach((l) => l());
+  assert.equal(statusBar.visible, true);
+  // A new server has run nothing yet.
+  await running(t);
+  assert.equal(statusBar.visible, false);
+});
+
+test('Show Plan: a read-only hipop-plan document, refreshed by hipop/planned', async (t) => {
+  const client = await running(t);
+  openProblem();
+  answer = async (method) => (method === 'hipop/plan' ? SOLVED : null);
+  events.length = 0;
+  await commands.get('hipop.showPlan')();
+  assert.deepEqual(client.requests.at(-1), { method: 'hipop/plan', params: { uri: PROBLEM } });
+  const shown = events.filter((e) => e.kind === 'show');
+  assert.equal(shown.length, 1, JSON.stringify(events));
+  const uri = Uri.parse(shown[0].uri);
+  assert.equal(uri.scheme, 'hipop-plan');
+  assert.equal(uri.path, '/survey-two.plan');
+  assert.equal(uri.query, PROBLEM);
+  assert.equal(await contentProviders.get('hipop-plan').provideTextDocumentContent(uri), SOLVED.text);
+  // The next run on the problem: VS Code asks for the text again.
+  vscodeStub.workspace.textDocuments = [{ uri }];
+  client.notifications.get('hipop/planned')({ uri: PROBLEM, status: 'solved', summary: 'x', repaired: true });
+  assert.deepEqual(events.filter((e) => e.kind === 'changed').map((e) => e.uri), [uri.toString()]);
+  vscodeStub.workspace.textDocuments = [];
+});
+
+test('Show Plan before any run: save the problem to plan it', async (t) => {
+  await running(t);
+  openProblem();
+  answer = async () => null;
+  events.length = 0;
+  await commands.get('hipop.showPlan')();
+  assert.deepEqual(infos().map((e) => e.text), ['hipop: no plan for problem yet: save the problem to plan it.']);
+});
+
+test('the plan commands without a problem, or without a server, say so and do not throw', async (t) => {
+  await running(t);
+  vscodeStub.window.activeTextEditor = undefined;
+  events.length = 0;
+  for (const id of ['hipop.showPlan', 'hipop.showTimeline', 'hipop.showPlanDiff', 'hipop.writePlanFile']) {
+    await commands.get(id)();
+  }
+  assert.equal(infos().length, 4, JSON.stringify(events));
+  assert.match(infos()[0].text, /open a problem/);
+
+  settings['server.path'] = 'hipop-surely-not-installed';
+  await commands.get('hipop.restartServer')();
+  await settle();
+  openProblem();
+  events.length = 0;
+  for (const id of ['hipop.showPlan', 'hipop.showTimeline', 'hipop.showPlanDiff', 'hipop.writePlanFile']) {
+    await commands.get(id)();
+  }
+  assert.equal(warnings().length, 4, JSON.stringify(events));
+  assert.match(warnings()[0].text, /the language server is not running/);
+});
+
+test('a failed request is a warning, not a throw', async (t) => {
+  await running(t);
+  openProblem();
+  answer = async () => {
+    throw new Error('Request hipop/plan failed');
+  };
+  events.length = 0;
+  await commands.get('hipop.showPlan')();
+  assert.deepEqual(warnings().map((e) => e.text), ['hipop: hipop/plan failed: Request hipop/plan failed']);
+});
+
+test('Show Plan Timeline: a webview without scripts, showing the SVG, updated by hipop/planned', async (t) => {
+  const client = await running(t);
+  openProblem();
+  answer = async (method) => (method === 'hipop/plan' ? SOLVED : null);
+  panels.length = 0;
+  await commands.get('hipop.showTimeline')();
+  assert.equal(panels.length, 1);
+  const [panel] = panels;
+  assert.equal(panel.title, 'Timeline: survey-two');
+  assert.equal(panel.options.enableScripts, false);
+  assert.deepEqual(panel.options.localResourceRoots, []);
+  assert.match(panel.webview.html, /content="default-src 'none'; img-src data:; style-src 'unsafe-inline'"/);
+  assert.match(panel.webview.html, /<img [^>]*src="data:image\/svg\+xml;base64,/);
+  answer = async () => ({ ...SOLVED, summary: 'plan: 4 actions' });
+  await client.notifications.get('hipop/planned')({ uri: PROBLEM, status: 'solved', summary: 'plan: 4 actions', repaired: true });
+  await settle();
+  assert.match(panel.webview.html, /<p>plan: 4 actions<\/p>/);
+  // Asked again: the same panel.
+  await commands.get('hipop.showTimeline')();
+  assert.equal(panels.length, 1);
+});
+
+test('Show Repair Diff: a diff editor of before.plan and after.plan; not a repair: say so', async (t) => {
+  await running(t);
+  openProblem();
+  const diff = { uri: PROBLEM, summary: 's', format: 'val', instability: 2, distance: 3, old: 'old\n', new: 'new\n', removed: [], added: [], retimed: [] };
+  answer = async (method) => (method === 'hipop/planDiff' ? diff : SOLVED);
+  events.length = 0;
+  await commands.get('hipop.showPlanDiff')();
+  const [call] = events.filter((e) => e.kind === 'command');
+  assert.equal(call.id, 'vscode.diff');
+  const [before, after, title] = call.args;
+  assert.deepEqual([before.path, after.path], ['/survey-two/before.plan', '/survey-two/after.plan']);
+  assert.equal(title, 'survey-two: instability 2, distance 3');
+  const provider = contentProviders.get('hipop-plan');
+  assert.equal(await provider.provideTextDocumentContent(before), 'old\n');
+  assert.equal(await provider.provideTextDocumentContent(after), 'new\n');
+
+  answer = async () => null;
+  events.length = 0;
+  await commands.get('hipop.showPlanDiff')();
+  assert.deepEqual(infos().map((e) => e.text), [
+    'hipop: the last run was not a repair: change the problem and save it again.',
+  ]);
+  assert.equal(events.filter((e) => e.kind === 'command').length, 0);
+});
+
+test("Write Plan Beside the Problem runs the server's hipop.writePlan", async (t) => {
+  const client = await running(t);
+  openProblem();
+  answer = async (method) => (method === 'workspace/executeCommand' ? { uri: 'file:///w/survey/problem.plan', path: '/w/survey/problem.plan' } : null);
+  events.length = 0;
+  await commands.get('hipop.writePlanFile')();
+  assert.deepEqual(client.requests.at(-1), {
+    method: 'workspace/executeCommand',
+    params: { command: 'hipop.writePlan', arguments: [PROBLEM] },
+  });
+  assert.deepEqual(infos().map((e) => [e.text, e.items]), [['hipop: wrote /w/survey/problem.plan', ['Open']]]);
+  // The server says why it cannot.
+  answer = async () => {
+    throw new Error('no plan for this problem yet: save it to plan it');
+  };
+  events.length = 0;
+  await commands.get('hipop.writePlanFile')();
+  assert.deepEqual(warnings().map((e) => e.text), [
+    'hipop: cannot write the plan: no plan for this problem yet: save it to plan it',
+  ]);
 });

@@ -140,10 +140,59 @@ test('settings and the restart command are contributed', () => {
   assert.deepEqual(props['hipop.server.extraArgs'].default, []);
   assert.deepEqual(props['hipop.trace.server'].enum, ['off', 'messages', 'verbose']);
   assert.equal(props['hipop.trace.server'].default, 'off');
+  assert.equal(pkg.contributes.commands[0].command, 'hipop.restartServer');
+});
+
+test('planning on save: hipop.plan.onSave and hipop.plan.timeLimit, described', () => {
+  const props = pkg.contributes.configuration.properties;
+  const onSave = props['hipop.plan.onSave'];
+  assert.equal(onSave.type, 'boolean');
+  assert.equal(onSave.default, true);
+  const limit = props['hipop.plan.timeLimit'];
+  assert.equal(limit.type, 'number');
+  assert.equal(limit.default, 5);
+  assert.equal(limit.minimum, 0.1);
+  for (const prop of [onSave, limit]) {
+    assert.match(prop.markdownDescription, /\S/);
+    assert.equal(prop.scope, undefined, 'a user or workspace setting like any other');
+  }
+  // The defaults are the client's and the server's (lsp/src/session.rs).
+  const { DEFAULT_PLAN_SETTINGS, MIN_TIME_LIMIT } = require('../out/planProtocol.js');
+  assert.deepEqual(DEFAULT_PLAN_SETTINGS, { onSave: onSave.default, timeLimit: limit.default });
+  assert.equal(MIN_TIME_LIMIT, limit.minimum);
+});
+
+test('the plan commands are in the palette, in category hipop, for domains and problems only', () => {
+  const plan = [
+    ['hipop.showPlan', 'Show Plan'],
+    ['hipop.showTimeline', 'Show Plan Timeline'],
+    ['hipop.showPlanDiff', 'Show Repair Diff'],
+    ['hipop.writePlanFile', 'Write Plan Beside the Problem'],
+  ];
   assert.deepEqual(
-    pkg.contributes.commands.map((c) => c.command),
-    ['hipop.restartServer'],
+    pkg.contributes.commands.map((c) => [c.command, c.title]),
+    [['hipop.restartServer', 'Restart Language Server'], ...plan],
   );
+  for (const c of pkg.contributes.commands) {
+    assert.equal(c.category, 'hipop', c.command);
+  }
+  assert.deepEqual(
+    pkg.contributes.menus.commandPalette,
+    plan.map(([command]) => ({ command, when: 'editorLangId == hipop-pddl' })),
+  );
+  // The compiled client registers exactly these.
+  const { PLAN_COMMANDS } = require('../out/planProtocol.js');
+  assert.deepEqual(Object.values(PLAN_COMMANDS), plan.map(([command]) => command));
+});
+
+// vscode-languageclient registers a VS Code command for each command the
+// server declares (executeCommandProvider): a contributed command of the
+// same id would be registered twice, and the second registration throws.
+test("no contributed command has the id of a server's command", () => {
+  const { WRITE_PLAN_COMMAND } = require('../out/planProtocol.js');
+  assert.equal(WRITE_PLAN_COMMAND, 'hipop.writePlan');
+  const ids = pkg.contributes.commands.map((c) => c.command);
+  assert.ok(!ids.includes(WRITE_PLAN_COMMAND), ids.join(', '));
 });
 
 test('engines.vscode satisfies vscode-languageclient and @types/vscode', () => {
@@ -198,4 +247,15 @@ test('.vscodeignore leaves the tests and the end-to-end test out of the .vsix', 
   for (const folder of ['src/**', 'test/**', 'e2e/**']) {
     assert.ok(ignored.includes(folder), folder);
   }
+});
+
+// test/lsp.test.js talks to the server through vscode-languageserver-protocol:
+// the same version as the extension's client, so that it speaks as it does.
+test("the protocol library of the server test is the client's", () => {
+  const lc = JSON.parse(fs.readFileSync(require.resolve('vscode-languageclient/package.json'), 'utf8'));
+  assert.equal(pkg.devDependencies['vscode-languageserver-protocol'], lc.dependencies['vscode-languageserver-protocol']);
+  const used = JSON.parse(
+    fs.readFileSync(require.resolve('vscode-languageserver-protocol/package.json'), 'utf8'),
+  );
+  assert.equal(used.version, lc.dependencies['vscode-languageserver-protocol']);
 });
