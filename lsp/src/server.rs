@@ -333,13 +333,21 @@ impl LanguageServer for Backend {
     async fn execute_command(&self, params: ExecuteCommandParams) -> Result<Option<LSPAny>> {
         match params.command.as_str() {
             capabilities::WRITE_PLAN => {
-                let uri = params
-                    .arguments
-                    .first()
-                    .and_then(|a| a.as_str().or_else(|| a.get("uri").and_then(|u| u.as_str())))
-                    .and_then(|u| u.parse::<Uri>().ok());
+                // The problem's URI; without one (Helix's :lsp-workspace-command
+                // passes none), the problem planned last.
+                let given = params.arguments.first();
+                let uri = match given {
+                    Some(a) => a
+                        .as_str()
+                        .or_else(|| a.get("uri").and_then(|u| u.as_str()))
+                        .and_then(|u| u.parse::<Uri>().ok()),
+                    None => self.session.lock().await.last_planned(),
+                };
                 match uri {
                     Some(uri) => self.write_plan(uri).await,
+                    None if given.is_none() => {
+                        Err(invalid_params("no plan yet: save a problem to plan it".to_string()))
+                    }
                     None => Err(invalid_params(format!(
                         "{}: expected the problem's URI",
                         capabilities::WRITE_PLAN

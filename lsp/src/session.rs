@@ -42,6 +42,7 @@ pub(crate) struct Session {
     published: HashMap<Uri, (i32, Vec<lsp::Diagnostic>)>,
     /// The last planner run of each problem, by analyzer key.
     plans: Plans,
+    last_planned: Option<Uri>,
     pub(crate) plan_settings: PlanSettings,
     /// What the client can do that planning on save uses.
     pub(crate) client_features: ClientFeatures,
@@ -189,6 +190,7 @@ impl Default for Session {
             warnings: Vec::new(),
             published: HashMap::new(),
             plans: Arc::default(),
+            last_planned: None,
             plan_settings: PlanSettings::default(),
             client_features: ClientFeatures::default(),
         }
@@ -475,7 +477,13 @@ impl Session {
 
     /// Keeps the last run of a problem.
     pub(crate) fn keep_plan(&mut self, key: String, record: PlanRecord) {
+        self.last_planned = Some(record.uri.clone());
         Arc::make_mut(&mut self.plans).insert(key, Arc::new(record));
+    }
+
+    /// The problem planned last.
+    pub(crate) fn last_planned(&self) -> Option<Uri> {
+        self.last_planned.clone()
     }
 
     /// Rereads a file from disk now (a plan the server wrote), unless open.

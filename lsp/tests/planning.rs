@@ -163,6 +163,11 @@ fn saving_a_changed_problem_repairs_the_last_plan_and_shows_the_diff() {
     assert_eq!(added, ["(move r1 b c)", "(observe r1 c p3)"]);
     assert!(diff["old"].as_str().unwrap().contains("(observe r1 b p2)"));
     assert!(diff["new"].as_str().unwrap().contains("(observe r1 c p3)"));
+    // Without an argument (Helix's :lsp-workspace-command), the plan of the
+    // problem planned last is written.
+    client.request("workspace/executeCommand", json!({"command": "hipop.writePlan"}));
+    let written = std::fs::read_to_string(dir.join("problem.plan")).unwrap();
+    assert!(written.contains("(observe r1 c p3)"), "{written}");
     // An edit since: the summary says so, the goal hints are gone.
     client.change(&uri, 3, range(0, 0, 0, 0), " ");
     let shown = hints(&mut client, &uri);
