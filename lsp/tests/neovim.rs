@@ -115,9 +115,9 @@ fn run_nvim(script: &str, env: &[(&str, std::path::PathBuf)]) -> (String, std::p
 
 /// Saving a problem plans it: the plan's hints beside the problem's lines,
 /// `:HipopPlan` shows the plan; a rename from the problem changes the
-/// domain too.
+/// domain too; formatting gives `hipop fmt`'s text, once.
 #[test]
-fn neovim_plans_on_save_and_renames() {
+fn neovim_plans_on_save_renames_and_formats() {
     let Some(version) = nvim_version() else {
         eprintln!("SKIP: neovim (nvim) not installed; .ci/run installs it");
         return;
@@ -140,6 +140,7 @@ fn neovim_plans_on_save_and_renames() {
             "plan buffer: hipop-plan, modifiable false, has the move true",
             "renamed in problem.pddl: 2 seen, 0 observed",
             "renamed in domain.pddl: 2 seen, 0 observed",
+            "format: changed true, as hipop fmt true, idempotent true",
         ],
         "{report}"
     );

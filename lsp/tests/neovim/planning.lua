@@ -76,6 +76,24 @@ local function run()
     say('renamed in %s: %d seen, %d observed', name, seen, observed)
   end
 
+  -- Formatting through the server gives `hipop fmt`'s text, and again the same.
+  vim.api.nvim_set_current_buf(bufnr)
+  local function text_of(b) return table.concat(vim.api.nvim_buf_get_lines(b, 0, -1, false), '\n') .. '\n' end
+  local expected = vim.fn.system({ vim.g.hipop_cmd[1], 'fmt', '-' }, text_of(bufnr))
+  local function format()
+    if vim.lsp.buf.format then
+      vim.lsp.buf.format({ bufnr = bufnr, timeout_ms = 10000 })
+    else
+      vim.lsp.buf.formatting_sync(nil, 10000)
+    end
+  end
+  local before = text_of(bufnr)
+  format()
+  local once = text_of(bufnr)
+  format()
+  say('format: changed %s, as hipop fmt %s, idempotent %s', tostring(once ~= before), tostring(once == expected),
+    tostring(text_of(bufnr) == once))
+
   for _, client in pairs(vim.lsp.get_active_clients()) do
     client.stop()
   end
