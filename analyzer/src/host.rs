@@ -339,6 +339,15 @@ impl Analysis {
         self.with_db(|db| crate::ide::code_actions(db, file, range))
     }
 
+    /// The completions at `offset` of `file`, best first.
+    pub fn completions(
+        &self,
+        file: SourceFile,
+        offset: TextSize,
+    ) -> Cancellable<Vec<crate::ide::Completion>> {
+        self.with_db(|db| crate::ide::completions(db, file, offset))
+    }
+
     pub fn folding_ranges(&self, file: SourceFile) -> Cancellable<Vec<crate::ide::Fold>> {
         self.with_db(|db| crate::ide::folding_ranges(db, file))
     }

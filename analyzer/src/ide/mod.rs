@@ -3,6 +3,7 @@
 //! folding ranges, rename. Plain data out; the server converts to LSP.
 
 mod actions;
+mod completion;
 pub mod diagnostics;
 mod outline;
 mod plan;
@@ -13,6 +14,7 @@ use crate::model::Str;
 use rowan::{TextRange, TextSize};
 
 pub use actions::{CodeAction, code_actions};
+pub use completion::{Completion, CompletionKind, completions};
 pub use outline::{Fold, FoldKind, Highlight, document_highlights, folding_ranges};
 pub use refs::{Occurrence, RefKind, occurrences};
 pub use rename::{RenameError, prepare_rename, rename};
