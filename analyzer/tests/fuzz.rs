@@ -203,6 +203,7 @@ proptest! {
             a.references(f, at, true).unwrap();
             a.document_highlights(f, at).unwrap();
             a.rename(f, at, "renamed").unwrap().ok();
+            a.completions(f, at).unwrap();
         }
     }
 

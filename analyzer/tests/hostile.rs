@@ -224,6 +224,7 @@ fn exercise(model: &Model) -> (Vec<Diagnostic>, Vec<Diagnostic>) {
             analysis.document_highlights(file, at).expect("not cancelled");
             analysis.prepare_rename(file, at).expect("not cancelled").ok();
             analysis.rename(file, at, "renamed").expect("not cancelled").ok();
+            analysis.completions(file, at).expect("not cancelled");
         }
     }
     analysis.validate_plan(plan, None, p, &Options::default()).expect("not cancelled");

@@ -33,6 +33,11 @@ pub(crate) fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities
             code_action_kinds: Some(vec![lsp::CodeActionKind::QUICKFIX]),
             ..lsp::CodeActionOptions::default()
         })),
+        // `(` opens a formula or a section, `?` a variable, `:` a keyword.
+        completion_provider: Some(lsp::CompletionOptions {
+            trigger_characters: Some(["(", "?", ":"].map(String::from).to_vec()),
+            ..lsp::CompletionOptions::default()
+        }),
         workspace: Some(lsp::WorkspaceServerCapabilities {
             workspace_folders: Some(lsp::WorkspaceFoldersServerCapabilities {
                 supported: Some(true),

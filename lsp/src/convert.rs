@@ -278,6 +278,74 @@ pub(crate) fn hover(h: ide::HoverResult, file: &FileInfo) -> lsp::Hover {
     }
 }
 
+/// A completion: its text replaces the word being typed. A snippet is sent
+/// as one only to a client that accepts them, and as its text with the
+/// placeholders' defaults otherwise.
+pub(crate) fn completion_item(c: ide::Completion, file: &FileInfo, snippets: bool) -> lsp::CompletionItem {
+    use ide::CompletionKind as K;
+    let kind = match c.kind {
+        K::Keyword => lsp::CompletionItemKind::KEYWORD,
+        K::Requirement => lsp::CompletionItemKind::ENUM_MEMBER,
+        K::Type => lsp::CompletionItemKind::CLASS,
+        K::Predicate => lsp::CompletionItemKind::INTERFACE,
+        K::Function => lsp::CompletionItemKind::FUNCTION,
+        K::Action => lsp::CompletionItemKind::METHOD,
+        K::Task => lsp::CompletionItemKind::EVENT,
+        K::Constant => lsp::CompletionItemKind::CONSTANT,
+        K::Object => lsp::CompletionItemKind::VALUE,
+        K::Variable => lsp::CompletionItemKind::VARIABLE,
+        K::Domain => lsp::CompletionItemKind::MODULE,
+        K::Snippet => lsp::CompletionItemKind::SNIPPET,
+    };
+    let (text, format) = match (c.snippet, snippets) {
+        (true, true) => (c.insert, lsp::InsertTextFormat::SNIPPET),
+        (true, false) => (snippet_text(&c.insert), lsp::InsertTextFormat::PLAIN_TEXT),
+        (false, _) => (c.insert, lsp::InsertTextFormat::PLAIN_TEXT),
+    };
+    lsp::CompletionItem {
+        label: c.label,
+        kind: Some(kind),
+        detail: c.detail,
+        sort_text: Some(c.sort),
+        // Filtered on the word it replaces, `:` and `?` included.
+        filter_text: None,
+        insert_text_format: Some(format),
+        text_edit: Some(lsp::CompletionTextEdit::Edit(lsp::TextEdit {
+            range: file.range(c.range),
+            new_text: text,
+        })),
+        ..lsp::CompletionItem::default()
+    }
+}
+
+/// The text of a snippet without its tab stops: `${1:name}` becomes `name`,
+/// `$0` and `${2}` nothing.
+pub(crate) fn snippet_text(snippet: &str) -> String {
+    let mut out = String::with_capacity(snippet.len());
+    let mut rest = snippet;
+    while let Some(i) = rest.find('$') {
+        out.push_str(&rest[..i]);
+        let after = &rest[i + 1..];
+        if let Some(inner) = after.strip_prefix('{')
+            && let Some(end) = inner.find('}')
+        {
+            let body = &inner[..end];
+            if let Some((_, default)) = body.split_once(':') {
+                out.push_str(default);
+            }
+            rest = &inner[end + 1..];
+        } else {
+            let digits = after.find(|c: char| !c.is_ascii_digit()).unwrap_or(after.len());
+            if digits == 0 {
+                out.push('$');
+            }
+            rest = &after[digits..];
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use hipop_analyzer::AnalysisHost;
@@ -363,5 +431,12 @@ mod tests {
         assert_eq!(columns(Encoding::Utf16), (2, 21, 22));
         assert_eq!(columns(Encoding::Utf32), (2, 21, 22));
         assert_eq!(columns(Encoding::Utf8), (2, 21, 23));
+    }
+
+    #[test]
+    fn a_snippet_without_its_tab_stops() {
+        assert_eq!(snippet_text("(:task ${1:name} :parameters (${2}))$0"), "(:task name :parameters ())");
+        assert_eq!(snippet_text("costs $5 and ${x"), "costs  and ${x");
+        assert_eq!(snippet_text("a $ b"), "a $ b");
     }
 }

@@ -169,3 +169,15 @@ pub(crate) fn workspace_symbols(
     }
     Ok(Some(lsp::WorkspaceSymbolResponse::Flat(symbols)))
 }
+
+/// The completions at `pos`, each replacing the word being typed; snippets
+/// as plain text for a client without snippets.
+pub(crate) fn completions(
+    snap: &Snapshot,
+    pos: lsp::Position,
+) -> Cancellable<Option<lsp::CompletionResponse>> {
+    let file = snap.files().get(snap.file)?;
+    let items = snap.analysis.completions(snap.file, file.offset(pos).into())?;
+    let items = items.into_iter().map(|c| convert::completion_item(c, &file, snap.snippets)).collect();
+    Ok(Some(lsp::CompletionResponse::Array(items)))
+}

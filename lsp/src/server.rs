@@ -128,6 +128,10 @@ impl LanguageServer for Backend {
         let watch_files =
             watch.and_then(|w| w.dynamic_registration).unwrap_or(false) && !forwards_only_its_writes;
         self.session.lock().await.set_client(encoding, watch_files);
+        let snippets = (params.capabilities.text_document.as_ref())
+            .and_then(|t| t.completion.as_ref()?.completion_item.as_ref()?.snippet_support)
+            .unwrap_or(false);
+        self.session.lock().await.set_snippets(snippets);
         self.load_folders(workspace::roots(&params)).await;
         Ok(InitializeResult {
             capabilities: capabilities::server_capabilities(encoding),
@@ -306,6 +310,12 @@ impl LanguageServer for Backend {
         let range = params.range;
         let uri = &params.text_document.uri;
         requests::run(&self.session, uri, "codeAction", move |s| features::code_actions(s, range)).await
+    }
+
+    async fn completion(&self, params: CompletionParams) -> Result<Option<CompletionResponse>> {
+        let pos = params.text_document_position.position;
+        let uri = &params.text_document_position.text_document.uri;
+        requests::run(&self.session, uri, "completion", move |s| features::completions(s, pos)).await
     }
 }
 

@@ -413,6 +413,62 @@ fn an_undeclared_predicate_is_declared_by_a_code_action() {
     client.shutdown();
 }
 
+/// The labels of a completion answer.
+fn labels(items: &Value) -> Vec<&str> {
+    items.as_array().expect("completion items").iter().filter_map(|i| i["label"].as_str()).collect()
+}
+
+/// Completion replaces the word being typed, counted in UTF-16 units; a
+/// problem's arguments are its objects, of the parameter's type first; the
+/// skeleton of a problem is a snippet for the clients that take snippets,
+/// and plain text for the others.
+#[test]
+fn completion_by_context() {
+    let snippets = json!({"textDocument": {"completion": {"completionItem": {"snippetSupport": true}}}});
+    let mut client = Client::spawn();
+    let init = client.initialize(&fixture("blocks"), snippets);
+    assert_eq!(init["capabilities"]["completionProvider"]["triggerCharacters"], json!(["(", "?", ":"]));
+    let uri = file_uri(&fixture("blocks/scratch-problem.pddl"));
+    let text = "(define (problem p) (:domain blocks)\n  (:objects bé1 - block)\n  (:init (on-table bé";
+    client.open(&uri, text);
+    client.diagnostics(&uri, Some(1));
+    // After `bé`: two UTF-16 units from column 19 (three bytes).
+    let items = client.request("textDocument/completion", at(&uri, 2, 21));
+    assert_eq!(labels(&items), ["bé1"]);
+    assert_eq!(items[0]["kind"], 12, "an object is a value");
+    assert_eq!(items[0]["detail"], "object bé1 - block");
+    assert_eq!(items[0]["textEdit"], json!({"range": range(2, 19, 2, 21), "newText": "bé1"}));
+    // After `(`: the predicates with their signatures, and `not`.
+    client.change(&uri, 2, range(2, 9, 2, 21), "(");
+    client.diagnostics(&uri, Some(2));
+    let items = client.request("textDocument/completion", at(&uri, 2, 10));
+    assert_eq!(labels(&items)[..3], ["clear", "held", "on-table"]);
+    assert_eq!(items[0]["detail"], "predicate (clear ?b - block)");
+    assert_eq!(items[0]["textEdit"]["range"], range(2, 10, 2, 10));
+
+    let new = file_uri(&fixture("blocks/scratch-new.pddl"));
+    client.open(&new, "(");
+    client.diagnostics(&new, Some(1));
+    let items = client.request("textDocument/completion", at(&new, 0, 1));
+    let skeleton = items.as_array().unwrap().iter().find(|i| i["kind"] == 15).expect("a snippet");
+    assert_eq!(skeleton["insertTextFormat"], 2);
+    let body = skeleton["textEdit"]["newText"].as_str().unwrap();
+    assert!(body.starts_with("define (problem ${1:name})\n  (:domain ${2:blocks})"), "{body}");
+    client.shutdown();
+
+    // Without snippets, the skeleton is its text.
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    client.open(&new, "(");
+    client.diagnostics(&new, Some(1));
+    let items = client.request("textDocument/completion", at(&new, 0, 1));
+    let skeleton = items.as_array().unwrap().iter().find(|i| i["kind"] == 15).expect("a snippet");
+    assert_eq!(skeleton["insertTextFormat"], 1);
+    let body = skeleton["textEdit"]["newText"].as_str().unwrap();
+    assert!(body.starts_with("define (problem name)\n  (:domain blocks)") && !body.contains('$'), "{body}");
+    client.shutdown();
+}
+
 /// A copy of the `blocks` fixture in a fresh folder, to change on disk.
 fn scratch_copy(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("hipop-lsp-{name}-{}", std::process::id()));
@@ -687,6 +743,12 @@ fn hostile_documents_leave_the_server_answering() {
     assert_eq!(diags[200]["code"], "I0008");
     assert_eq!(diags[200]["severity"], 3);
 
+    for name in ["deep.pddl", "open.pddl", "close.pddl", "many.pddl"] {
+        for (line, character) in [(0, 0), (0, 1), (1, 44 + 5 * 300), (0, 199_999)] {
+            let answer = client.request_raw("textDocument/completion", at(&uri(name), line, character));
+            assert!(answer.get("error").is_none(), "{name}: {answer}");
+        }
+    }
     let symbols =
         client.request("textDocument/documentSymbol", json!({"textDocument": {"uri": uri("deep.pddl")}}));
     assert_eq!(symbols[0]["name"], "deep");
