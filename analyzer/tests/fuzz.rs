@@ -196,6 +196,7 @@ proptest! {
         a.diagnostics(f).unwrap();
         a.document_symbols(f).unwrap();
         a.folding_ranges(f).unwrap();
+        a.semantic_tokens(f).unwrap();
         a.code_actions(f, TextRange::up_to(TextSize::of(text.as_str()))).unwrap();
         for p in probes {
             let at = TextSize::from(boundary(&text, p) as u32);

@@ -214,6 +214,7 @@ fn exercise(model: &Model) -> (Vec<Diagnostic>, Vec<Diagnostic>) {
     for (file, text) in [(d, &model.domain), (p, &model.problem)] {
         analysis.document_symbols(file).expect("not cancelled");
         analysis.folding_ranges(file).expect("not cancelled");
+        analysis.semantic_tokens(file).expect("not cancelled");
         analysis.code_actions(file, TextRange::up_to(TextSize::of(text.as_str()))).expect("not cancelled");
         // Every name of the innermost formula and around it.
         for at in (0..text.len()).step_by(7) {

@@ -38,6 +38,17 @@ pub(crate) fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities
             trigger_characters: Some(["(", "?", ":"].map(String::from).to_vec()),
             ..lsp::CompletionOptions::default()
         }),
+        semantic_tokens_provider: Some(lsp::SemanticTokensServerCapabilities::SemanticTokensOptions(
+            lsp::SemanticTokensOptions {
+                legend: lsp::SemanticTokensLegend {
+                    token_types: crate::convert::TOKEN_TYPES.to_vec(),
+                    token_modifiers: crate::convert::TOKEN_MODIFIERS.to_vec(),
+                },
+                range: Some(true),
+                full: Some(lsp::SemanticTokensFullOptions::Bool(true)),
+                ..lsp::SemanticTokensOptions::default()
+            },
+        )),
         workspace: Some(lsp::WorkspaceServerCapabilities {
             workspace_folders: Some(lsp::WorkspaceFoldersServerCapabilities {
                 supported: Some(true),

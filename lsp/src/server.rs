@@ -317,6 +317,27 @@ impl LanguageServer for Backend {
         let uri = &params.text_document_position.text_document.uri;
         requests::run(&self.session, uri, "completion", move |s| features::completions(s, pos)).await
     }
+
+    async fn semantic_tokens_full(
+        &self,
+        params: SemanticTokensParams,
+    ) -> Result<Option<SemanticTokensResult>> {
+        let uri = params.text_document.uri;
+        let tokens =
+            requests::run(&self.session, &uri, "semanticTokens", |s| features::semantic_tokens(s, None));
+        Ok(tokens.await?.map(SemanticTokensResult::Tokens))
+    }
+
+    async fn semantic_tokens_range(
+        &self,
+        params: SemanticTokensRangeParams,
+    ) -> Result<Option<SemanticTokensRangeResult>> {
+        let (uri, range) = (params.text_document.uri, params.range);
+        let tokens = requests::run(&self.session, &uri, "semanticTokens", move |s| {
+            features::semantic_tokens(s, Some(range))
+        });
+        Ok(tokens.await?.map(SemanticTokensRangeResult::Tokens))
+    }
 }
 
 /// A rename's answer: nothing for an unknown document, the client shows the

@@ -469,6 +469,66 @@ fn completion_by_context() {
     client.shutdown();
 }
 
+/// Semantic tokens, absolute: (line, start, length, type, modifiers).
+fn decode(tokens: &Value) -> Vec<(u64, u64, u64, u64, u64)> {
+    let data: Vec<u64> = tokens["data"].as_array().expect("data").iter().filter_map(Value::as_u64).collect();
+    let (mut line, mut start) = (0, 0);
+    data.chunks(5)
+        .map(|t| {
+            line += t[0];
+            start = if t[0] == 0 { start + t[1] } else { t[1] };
+            (line, start, t[2], t[3], t[4])
+        })
+        .collect()
+}
+
+/// Semantic tokens count columns in the negotiated unit: `été` is 3 UTF-16
+/// units and 5 bytes; a predicate is a function, its declaration marked;
+/// a range asks for its lines only.
+#[test]
+fn semantic_tokens_in_the_negotiated_encoding() {
+    let (uri, text) = read("unicode/domain.pddl");
+    for (capabilities, ete, emoji) in [
+        (json!({}), (18, 3), (27, 2)),
+        (json!({"general": {"positionEncodings": ["utf-8"]}}), (18, 5), (29, 4)),
+    ] {
+        let mut client = Client::spawn();
+        let init = client.initialize(&fixture("unicode"), capabilities);
+        let provider = &init["capabilities"]["semanticTokensProvider"];
+        let types: Vec<&str> =
+            provider["legend"]["tokenTypes"].as_array().unwrap().iter().filter_map(|t| t.as_str()).collect();
+        let modifiers: Vec<&str> = provider["legend"]["tokenModifiers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|t| t.as_str())
+            .collect();
+        assert_eq!(provider["full"], true);
+        let function = types.iter().position(|t| *t == "function").unwrap() as u64;
+        let comment = types.iter().position(|t| *t == "comment").unwrap() as u64;
+        let declaration = 1 << modifiers.iter().position(|m| *m == "declaration").unwrap();
+        client.open(&uri, &text);
+        client.diagnostics(&uri, Some(1));
+        let tokens = decode(
+            &client.request("textDocument/semanticTokens/full", json!({"textDocument": {"uri": uri}})),
+        );
+        let first_line = text.lines().next().unwrap();
+        let units = if ete.1 == 3 { first_line.encode_utf16().count() } else { first_line.len() };
+        assert_eq!(tokens[0], (0, 0, units as u64, comment, 0));
+        assert!(tokens.contains(&(3, 16, ete.1, function, declaration)), "{tokens:?}");
+        assert!(tokens.contains(&(7, ete.0, ete.1, function, 0)), "{tokens:?}");
+        assert!(tokens.contains(&(7, emoji.0, emoji.1, function, 0)), "{tokens:?}");
+        let line7 = client.request(
+            "textDocument/semanticTokens/range",
+            json!({"textDocument": {"uri": uri}, "range": range(7, 0, 8, 0)}),
+        );
+        let line7 = decode(&line7);
+        assert!(line7.iter().all(|t| t.0 == 7), "{line7:?}");
+        assert_eq!(line7, tokens.iter().copied().filter(|t| t.0 == 7).collect::<Vec<_>>());
+        client.shutdown();
+    }
+}
+
 /// A copy of the `blocks` fixture in a fresh folder, to change on disk.
 fn scratch_copy(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("hipop-lsp-{name}-{}", std::process::id()));
@@ -748,6 +808,9 @@ fn hostile_documents_leave_the_server_answering() {
             let answer = client.request_raw("textDocument/completion", at(&uri(name), line, character));
             assert!(answer.get("error").is_none(), "{name}: {answer}");
         }
+        let document = json!({"textDocument": {"uri": uri(name)}});
+        let answer = client.request_raw("textDocument/semanticTokens/full", document);
+        assert!(answer["result"]["data"].is_array(), "{name}: {answer}");
     }
     let symbols =
         client.request("textDocument/documentSymbol", json!({"textDocument": {"uri": uri("deep.pddl")}}));

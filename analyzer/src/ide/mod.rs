@@ -5,6 +5,7 @@
 mod actions;
 mod completion;
 pub mod diagnostics;
+mod highlight;
 mod outline;
 mod plan;
 mod refs;
@@ -15,6 +16,7 @@ use rowan::{TextRange, TextSize};
 
 pub use actions::{CodeAction, code_actions};
 pub use completion::{Completion, CompletionKind, completions};
+pub use highlight::{HighlightKind, HighlightToken, semantic_tokens};
 pub use outline::{Fold, FoldKind, Highlight, document_highlights, folding_ranges};
 pub use refs::{Occurrence, RefKind, occurrences};
 pub use rename::{RenameError, prepare_rename, rename};
