@@ -529,6 +529,48 @@ fn semantic_tokens_in_the_negotiated_encoding() {
     }
 }
 
+/// In a domain without `:requirements` nor `:predicates`, the quick fixes
+/// make them: the requirement after the domain's name, the predicate after
+/// the types.
+#[test]
+fn missing_sections_are_made_by_code_actions() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    let uri = file_uri(&fixture("blocks/scratch-bare.pddl"));
+    let text = "(define (domain bare)\n  (:types block)\n  (:action a :parameters (?b - block) :effect (ready ?b)))\n";
+    client.open(&uri, text);
+    assert_eq!(codes(&client.diagnostics(&uri, Some(1))), ["W0203", "E0102"]);
+    let actions = client.request(
+        "textDocument/codeAction",
+        json!({"textDocument": {"uri": uri}, "range": range(0, 0, 3, 0), "context": {"diagnostics": []}}),
+    );
+    let edits: Vec<(&str, &str, Value)> = actions
+        .as_array()
+        .expect("actions")
+        .iter()
+        .map(|a| {
+            (a["title"].as_str().unwrap(), a["kind"].as_str().unwrap(), a["edit"]["changes"][&uri].clone())
+        })
+        .collect();
+    assert!(
+        edits.contains(&(
+            "add `(:requirements :typing)`",
+            "quickfix",
+            json!([{"range": range(0, 21, 0, 21), "newText": "\n  (:requirements :typing)"}])
+        )),
+        "{edits:#?}"
+    );
+    assert!(
+        edits.contains(&(
+            "declare `(ready ?b - block)` in a new `:predicates`",
+            "quickfix",
+            json!([{"range": range(1, 16, 1, 16), "newText": "\n  (:predicates (ready ?b - block))"}])
+        )),
+        "{edits:#?}"
+    );
+    client.shutdown();
+}
+
 /// A copy of the `blocks` fixture in a fresh folder, to change on disk.
 fn scratch_copy(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("hipop-lsp-{name}-{}", std::process::id()));
