@@ -654,8 +654,9 @@ impl<'db> Context<'db> {
             },
             Role::Term => self.arguments(frames, list, Namespace::Function),
             Role::Call { .. } => self.arguments(frames, list, Namespace::Callable),
+            // `(deliver ?p …)` without an id; `(t1 …)` has none to offer.
             Role::Subtasks | Role::Subtask => {
-                if !matches!(head.as_str(), "and") && index >= 1 && list.role == Role::Subtasks {
+                if head != "and" && self.symbols().is_some_and(|s| s.callable(&head).is_some()) {
                     self.arguments(frames, list, Namespace::Callable)
                 }
             }
@@ -816,10 +817,7 @@ impl<'db> Context<'db> {
                 found.push((u8::from(!fits(&ty)), CompletionKind::Variable, name, detail));
             }
         }
-        if problem
-            && !in_item
-            && let Some(u) = self.unit
-        {
+        if problem && let Some(u) = self.unit {
             for o in problem_symbols(self.db, u).objects.values() {
                 let detail = format!("object {} - {}", o.name, o.ty.join(" "));
                 found.push((2 + u8::from(!fits(&o.ty)), CompletionKind::Object, o.name.to_string(), detail));
@@ -1074,6 +1072,19 @@ mod tests {
     fn subtasks_and_the_task_of_a_method() {
         insta::assert_snapshot!(complete(&in_domain("(:method m :ordered-subtasks (and ($0")));
         assert_eq!(labels(&in_domain("(:method m :task ($0")), ["visit"]);
+        // A subtask without an id takes the variables; one with an id, nothing.
+        let args = labels(&in_domain("(:method m :parameters (?y - rover) :subtasks (and (visit $0"));
+        assert_eq!(args, ["?y", "base"]);
+        assert_eq!(
+            labels(&in_domain("(:method m :parameters (?y) :subtasks (and (t1 $0")),
+            Vec::<String>::new()
+        );
+        // A problem's task network takes its objects.
+        let htn = labels(
+            "(define (problem p) (:domain rovers) (:objects r1 - rover w1 - waypoint)\n  (:htn \
+                          :subtasks (and (visit $0",
+        );
+        assert_eq!(htn, ["r1", "base", "w1"]);
         assert_eq!(labels(&in_domain("(:method m :parameters (?x - rover) :task (visit $0")), ["?x", "base"]);
     }
 
