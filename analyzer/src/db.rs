@@ -62,7 +62,7 @@ pub enum Section {
 }
 
 impl Section {
-    fn of(head: Option<&str>) -> Section {
+    pub(crate) fn of(head: Option<&str>) -> Section {
         let Some(h) = head else { return Section::Other };
         match h.to_ascii_lowercase().as_str() {
             "domain" | "problem" => Section::Header,

@@ -354,6 +354,20 @@ impl Analysis {
         })
     }
 
+    /// The completions at `offset` of `file`, best first.
+    pub fn completions(
+        &self,
+        file: SourceFile,
+        offset: TextSize,
+    ) -> Cancellable<Vec<crate::ide::Completion>> {
+        self.with_db(|db| crate::ide::completions(db, file, offset))
+    }
+
+    /// The semantic tokens of `file`, in order.
+    pub fn semantic_tokens(&self, file: SourceFile) -> Cancellable<Vec<crate::ide::HighlightToken>> {
+        self.with_db(|db| crate::ide::semantic_tokens(db, file))
+    }
+
     pub fn folding_ranges(&self, file: SourceFile) -> Cancellable<Vec<crate::ide::Fold>> {
         self.with_db(|db| crate::ide::folding_ranges(db, file))
     }

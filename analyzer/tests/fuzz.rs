@@ -241,6 +241,7 @@ proptest! {
         a.diagnostics(f).unwrap();
         a.document_symbols(f).unwrap();
         a.folding_ranges(f).unwrap();
+        a.semantic_tokens(f).unwrap();
         a.code_actions(f, TextRange::up_to(TextSize::of(text.as_str()))).unwrap();
         if let Ok(once) = a.format(f).unwrap() {
             // Formatting is idempotent and keeps every atom, parenthesis and comment.
@@ -266,6 +267,7 @@ proptest! {
             a.document_highlights(f, at).unwrap();
             a.rename(f, at, "renamed").unwrap().ok();
             a.plan_hover(f, at, &plans).unwrap();
+            a.completions(f, at).unwrap();
         }
     }
 

@@ -214,6 +214,7 @@ fn exercise(model: &Model) -> (Vec<Diagnostic>, Vec<Diagnostic>) {
     for (file, text) in [(d, &model.domain), (p, &model.problem)] {
         analysis.document_symbols(file).expect("not cancelled");
         analysis.folding_ranges(file).expect("not cancelled");
+        analysis.semantic_tokens(file).expect("not cancelled");
         analysis.code_actions(file, TextRange::up_to(TextSize::of(text.as_str()))).expect("not cancelled");
         // Formatted to the limit (and idempotent); beyond it, refused for the syntax error.
         match analysis.format(file).expect("not cancelled") {
@@ -229,6 +230,7 @@ fn exercise(model: &Model) -> (Vec<Diagnostic>, Vec<Diagnostic>) {
             analysis.document_highlights(file, at).expect("not cancelled");
             analysis.prepare_rename(file, at).expect("not cancelled").ok();
             analysis.rename(file, at, "renamed").expect("not cancelled").ok();
+            analysis.completions(file, at).expect("not cancelled");
         }
     }
     analysis.validate_plan(plan, None, p, &Options::default()).expect("not cancelled");

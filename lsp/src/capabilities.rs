@@ -42,6 +42,22 @@ pub(crate) fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities
             work_done_progress_options: lsp::WorkDoneProgressOptions::default(),
         }),
         document_formatting_provider: Some(lsp::OneOf::Left(true)),
+        // `(` opens a formula or a section, `?` a variable, `:` a keyword.
+        completion_provider: Some(lsp::CompletionOptions {
+            trigger_characters: Some(["(", "?", ":"].map(String::from).to_vec()),
+            ..lsp::CompletionOptions::default()
+        }),
+        semantic_tokens_provider: Some(lsp::SemanticTokensServerCapabilities::SemanticTokensOptions(
+            lsp::SemanticTokensOptions {
+                legend: lsp::SemanticTokensLegend {
+                    token_types: crate::convert::TOKEN_TYPES.to_vec(),
+                    token_modifiers: crate::convert::TOKEN_MODIFIERS.to_vec(),
+                },
+                range: Some(true),
+                full: Some(lsp::SemanticTokensFullOptions::Bool(true)),
+                ..lsp::SemanticTokensOptions::default()
+            },
+        )),
         workspace: Some(lsp::WorkspaceServerCapabilities {
             workspace_folders: Some(lsp::WorkspaceFoldersServerCapabilities {
                 supported: Some(true),

@@ -278,6 +278,168 @@ pub(crate) fn hover(h: ide::HoverResult, file: &FileInfo) -> lsp::Hover {
     }
 }
 
+/// A completion: its text replaces the word being typed. A snippet is sent
+/// as one only to a client that accepts them, and as its text with the
+/// placeholders' defaults otherwise.
+pub(crate) fn completion_item(c: ide::Completion, file: &FileInfo, snippets: bool) -> lsp::CompletionItem {
+    use ide::CompletionKind as K;
+    let kind = match c.kind {
+        K::Keyword => lsp::CompletionItemKind::KEYWORD,
+        K::Requirement => lsp::CompletionItemKind::ENUM_MEMBER,
+        K::Type => lsp::CompletionItemKind::CLASS,
+        K::Predicate => lsp::CompletionItemKind::INTERFACE,
+        K::Function => lsp::CompletionItemKind::FUNCTION,
+        K::Action => lsp::CompletionItemKind::METHOD,
+        K::Task => lsp::CompletionItemKind::EVENT,
+        K::Constant => lsp::CompletionItemKind::CONSTANT,
+        K::Object => lsp::CompletionItemKind::VALUE,
+        K::Variable => lsp::CompletionItemKind::VARIABLE,
+        K::Domain => lsp::CompletionItemKind::MODULE,
+        K::Snippet => lsp::CompletionItemKind::SNIPPET,
+    };
+    let (text, format) = match (c.snippet, snippets) {
+        (true, true) => (c.insert, lsp::InsertTextFormat::SNIPPET),
+        (true, false) => (snippet_text(&c.insert), lsp::InsertTextFormat::PLAIN_TEXT),
+        (false, _) => (c.insert, lsp::InsertTextFormat::PLAIN_TEXT),
+    };
+    lsp::CompletionItem {
+        label: c.label,
+        kind: Some(kind),
+        detail: c.detail,
+        sort_text: Some(c.sort),
+        // Filtered on the word it replaces, `:` and `?` included.
+        filter_text: None,
+        insert_text_format: Some(format),
+        text_edit: Some(lsp::CompletionTextEdit::Edit(lsp::TextEdit {
+            range: file.range(c.range),
+            new_text: text,
+        })),
+        ..lsp::CompletionItem::default()
+    }
+}
+
+/// The text of a snippet without its tab stops: `${1:name}` becomes `name`,
+/// `$0` and `${2}` nothing.
+pub(crate) fn snippet_text(snippet: &str) -> String {
+    let mut out = String::with_capacity(snippet.len());
+    let mut rest = snippet;
+    while let Some(i) = rest.find('$') {
+        out.push_str(&rest[..i]);
+        let after = &rest[i + 1..];
+        if let Some(inner) = after.strip_prefix('{')
+            && let Some(end) = inner.find('}')
+        {
+            let body = &inner[..end];
+            if let Some((_, default)) = body.split_once(':') {
+                out.push_str(default);
+            }
+            rest = &inner[end + 1..];
+        } else {
+            let digits = after.find(|c: char| !c.is_ascii_digit()).unwrap_or(after.len());
+            if digits == 0 {
+                out.push('$');
+            }
+            rest = &after[digits..];
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The semantic token types the server uses, standard ones so that default
+/// themes colour them; a token's type is its index here.
+pub(crate) const TOKEN_TYPES: &[lsp::SemanticTokenType] = &[
+    lsp::SemanticTokenType::KEYWORD,
+    lsp::SemanticTokenType::OPERATOR,
+    lsp::SemanticTokenType::COMMENT,
+    lsp::SemanticTokenType::NUMBER,
+    lsp::SemanticTokenType::TYPE,
+    lsp::SemanticTokenType::FUNCTION,
+    lsp::SemanticTokenType::PROPERTY,
+    lsp::SemanticTokenType::METHOD,
+    lsp::SemanticTokenType::ENUM_MEMBER,
+    lsp::SemanticTokenType::PARAMETER,
+    lsp::SemanticTokenType::VARIABLE,
+    lsp::SemanticTokenType::MACRO,
+    lsp::SemanticTokenType::NAMESPACE,
+];
+
+/// The modifiers, bit `i` for the `i`th.
+pub(crate) const TOKEN_MODIFIERS: &[lsp::SemanticTokenModifier] = &[
+    lsp::SemanticTokenModifier::DECLARATION,
+    lsp::SemanticTokenModifier::READONLY,
+    lsp::SemanticTokenModifier::ABSTRACT,
+    lsp::SemanticTokenModifier::DEFAULT_LIBRARY,
+];
+
+/// A highlighted token's type and modifiers: a predicate is a function, a
+/// numeric function a property, an action a method and a task an abstract
+/// one, an object an enum member (a constant a read-only one), a
+/// requirement a macro, a domain's name a namespace.
+fn token_type(t: &ide::HighlightToken) -> (u32, u32) {
+    use ide::HighlightKind as K;
+    let ty = |t: lsp::SemanticTokenType| TOKEN_TYPES.iter().position(|x| *x == t).unwrap_or(0) as u32;
+    let bit = |m: lsp::SemanticTokenModifier| 1 << TOKEN_MODIFIERS.iter().position(|x| *x == m).unwrap_or(0);
+    let (kind, mut modifiers) = match t.kind {
+        K::Keyword => (lsp::SemanticTokenType::KEYWORD, 0),
+        K::Operator => (lsp::SemanticTokenType::OPERATOR, 0),
+        K::Comment => (lsp::SemanticTokenType::COMMENT, 0),
+        K::Number => (lsp::SemanticTokenType::NUMBER, 0),
+        K::Type => (lsp::SemanticTokenType::TYPE, 0),
+        K::Predicate => (lsp::SemanticTokenType::FUNCTION, 0),
+        K::Function => (lsp::SemanticTokenType::PROPERTY, 0),
+        K::Action | K::Method => (lsp::SemanticTokenType::METHOD, 0),
+        K::Task => (lsp::SemanticTokenType::METHOD, bit(lsp::SemanticTokenModifier::ABSTRACT)),
+        K::Constant => (lsp::SemanticTokenType::ENUM_MEMBER, bit(lsp::SemanticTokenModifier::READONLY)),
+        K::Object => (lsp::SemanticTokenType::ENUM_MEMBER, 0),
+        K::Parameter => (lsp::SemanticTokenType::PARAMETER, 0),
+        K::Variable => (lsp::SemanticTokenType::VARIABLE, 0),
+        K::SubtaskId => (lsp::SemanticTokenType::VARIABLE, bit(lsp::SemanticTokenModifier::READONLY)),
+        K::Requirement => (lsp::SemanticTokenType::MACRO, 0),
+        K::UnitName => (lsp::SemanticTokenType::NAMESPACE, 0),
+    };
+    if t.declaration {
+        modifiers |= bit(lsp::SemanticTokenModifier::DECLARATION);
+    }
+    if t.builtin {
+        modifiers |= bit(lsp::SemanticTokenModifier::DEFAULT_LIBRARY);
+    }
+    (ty(kind), modifiers)
+}
+
+/// The tokens in `within`, relative to the one before (LSP's encoding), in
+/// the negotiated unit. A token never spans lines (an atom or a comment);
+/// one that would is left out.
+pub(crate) fn semantic_tokens(
+    tokens: &[ide::HighlightToken],
+    file: &FileInfo,
+    within: Option<TextRange>,
+) -> Vec<lsp::SemanticToken> {
+    let mut out = Vec::with_capacity(tokens.len());
+    let (mut line, mut start) = (0, 0);
+    for t in tokens {
+        if within.is_some_and(|w| w.intersect(t.range).is_none_or(|i| i.is_empty() && !t.range.is_empty())) {
+            continue;
+        }
+        let range = file.range(t.range);
+        if range.start.line != range.end.line || range.end.character <= range.start.character {
+            continue;
+        }
+        let (token_type, token_modifiers_bitset) = token_type(t);
+        let delta_line = range.start.line - line;
+        let delta_start = if delta_line == 0 { range.start.character - start } else { range.start.character };
+        out.push(lsp::SemanticToken {
+            delta_line,
+            delta_start,
+            length: range.end.character - range.start.character,
+            token_type,
+            token_modifiers_bitset,
+        });
+        (line, start) = (range.start.line, range.start.character);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use hipop_analyzer::AnalysisHost;
@@ -363,5 +525,12 @@ mod tests {
         assert_eq!(columns(Encoding::Utf16), (2, 21, 22));
         assert_eq!(columns(Encoding::Utf32), (2, 21, 22));
         assert_eq!(columns(Encoding::Utf8), (2, 21, 23));
+    }
+
+    #[test]
+    fn a_snippet_without_its_tab_stops() {
+        assert_eq!(snippet_text("(:task ${1:name} :parameters (${2}))$0"), "(:task name :parameters ())");
+        assert_eq!(snippet_text("costs $5 and ${x"), "costs  and ${x");
+        assert_eq!(snippet_text("a $ b"), "a $ b");
     }
 }

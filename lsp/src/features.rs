@@ -212,3 +212,30 @@ pub(crate) fn workspace_symbols(
     }
     Ok(Some(lsp::WorkspaceSymbolResponse::Flat(symbols)))
 }
+
+/// The completions at `pos`, each replacing the word being typed; snippets
+/// as plain text for a client without snippets.
+pub(crate) fn completions(
+    snap: &Snapshot,
+    pos: lsp::Position,
+) -> Cancellable<Option<lsp::CompletionResponse>> {
+    let file = snap.files().get(snap.file)?;
+    let items = snap.analysis.completions(snap.file, file.offset(pos).into())?;
+    let items = items.into_iter().map(|c| convert::completion_item(c, &file, snap.snippets)).collect();
+    Ok(Some(lsp::CompletionResponse::Array(items)))
+}
+
+/// The semantic tokens of the document, or of `range` of it.
+pub(crate) fn semantic_tokens(
+    snap: &Snapshot,
+    range: Option<lsp::Range>,
+) -> Cancellable<Option<lsp::SemanticTokens>> {
+    let file = snap.files().get(snap.file)?;
+    let tokens = snap.analysis.semantic_tokens(snap.file)?;
+    let within = range.map(|r| {
+        let (a, b) = (file.offset(r.start), file.offset(r.end));
+        TextRange::new(a.min(b).into(), a.max(b).into())
+    });
+    let data = convert::semantic_tokens(&tokens, &file, within);
+    Ok(Some(lsp::SemanticTokens { result_id: None, data }))
+}

@@ -180,6 +180,10 @@ impl LanguageServer for Backend {
         {
             let mut session = self.session.lock().await;
             session.set_client(encoding, watch_files);
+            let snippets = (params.capabilities.text_document.as_ref())
+                .and_then(|t| t.completion.as_ref()?.completion_item.as_ref()?.snippet_support)
+                .unwrap_or(false);
+            session.set_snippets(snippets);
             session.client_features = crate::session::ClientFeatures {
                 progress: params
                     .capabilities
@@ -419,6 +423,33 @@ impl LanguageServer for Backend {
         let range = params.range;
         let uri = &params.text_document.uri;
         requests::run(&self.session, uri, "codeAction", move |s| features::code_actions(s, range)).await
+    }
+
+    async fn completion(&self, params: CompletionParams) -> Result<Option<CompletionResponse>> {
+        let pos = params.text_document_position.position;
+        let uri = &params.text_document_position.text_document.uri;
+        requests::run(&self.session, uri, "completion", move |s| features::completions(s, pos)).await
+    }
+
+    async fn semantic_tokens_full(
+        &self,
+        params: SemanticTokensParams,
+    ) -> Result<Option<SemanticTokensResult>> {
+        let uri = params.text_document.uri;
+        let tokens =
+            requests::run(&self.session, &uri, "semanticTokens", |s| features::semantic_tokens(s, None));
+        Ok(tokens.await?.map(SemanticTokensResult::Tokens))
+    }
+
+    async fn semantic_tokens_range(
+        &self,
+        params: SemanticTokensRangeParams,
+    ) -> Result<Option<SemanticTokensRangeResult>> {
+        let (uri, range) = (params.text_document.uri, params.range);
+        let tokens = requests::run(&self.session, &uri, "semanticTokens", move |s| {
+            features::semantic_tokens(s, Some(range))
+        });
+        Ok(tokens.await?.map(SemanticTokensRangeResult::Tokens))
     }
 
     async fn formatting(&self, params: DocumentFormattingParams) -> Result<Option<Vec<TextEdit>>> {

@@ -28,6 +28,8 @@ pub(crate) struct Session {
     encoding: Encoding,
     /// Whether the client can watch files for us (dynamic registration).
     watch_files: bool,
+    /// Whether the client accepts snippets in completions.
+    snippets: bool,
     generation: u64,
     budget: Budget,
     /// Folders already loaded from disk.
@@ -139,6 +141,8 @@ pub(crate) struct Snapshot {
     pub analysis: Analysis,
     pub file: SourceFile,
     pub encoding: Encoding,
+    /// Whether the client accepts snippets in completions.
+    pub snippets: bool,
     pub open: Arc<HashMap<String, Uri>>,
     pub indexes: HashMap<SourceFile, Arc<LineIndex>>,
     pub plans: Plans,
@@ -182,6 +186,7 @@ impl Default for Session {
             open: Arc::default(),
             encoding: Encoding::Utf16,
             watch_files: false,
+            snippets: false,
             generation: 0,
             budget: Budget::default(),
             scanned: HashSet::new(),
@@ -206,6 +211,11 @@ impl Session {
     pub(crate) fn set_client(&mut self, encoding: Encoding, watch_files: bool) {
         self.encoding = encoding;
         self.watch_files = watch_files;
+    }
+
+    /// Records whether the client accepts snippets in completions.
+    pub(crate) fn set_snippets(&mut self, snippets: bool) {
+        self.snippets = snippets;
     }
 
     pub(crate) fn watch_files(&self) -> bool {
@@ -420,6 +430,7 @@ impl Session {
             analysis: self.host.analysis(),
             file,
             encoding: self.encoding,
+            snippets: self.snippets,
             open: self.open.clone(),
             indexes: self.indexes(),
             plans: self.plans.clone(),

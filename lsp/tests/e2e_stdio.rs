@@ -413,6 +413,164 @@ fn an_undeclared_predicate_is_declared_by_a_code_action() {
     client.shutdown();
 }
 
+/// The labels of a completion answer.
+fn labels(items: &Value) -> Vec<&str> {
+    items.as_array().expect("completion items").iter().filter_map(|i| i["label"].as_str()).collect()
+}
+
+/// Completion replaces the word being typed, counted in UTF-16 units; a
+/// problem's arguments are its objects, of the parameter's type first; the
+/// skeleton of a problem is a snippet for the clients that take snippets,
+/// and plain text for the others.
+#[test]
+fn completion_by_context() {
+    let snippets = json!({"textDocument": {"completion": {"completionItem": {"snippetSupport": true}}}});
+    let mut client = Client::spawn();
+    let init = client.initialize(&fixture("blocks"), snippets);
+    assert_eq!(init["capabilities"]["completionProvider"]["triggerCharacters"], json!(["(", "?", ":"]));
+    let uri = file_uri(&fixture("blocks/scratch-problem.pddl"));
+    let text = "(define (problem p) (:domain blocks)\n  (:objects bé1 - block)\n  (:init (on-table bé";
+    client.open(&uri, text);
+    client.diagnostics(&uri, Some(1));
+    // After `bé`: two UTF-16 units from column 19 (three bytes).
+    let items = client.request("textDocument/completion", at(&uri, 2, 21));
+    assert_eq!(labels(&items), ["bé1"]);
+    assert_eq!(items[0]["kind"], 12, "an object is a value");
+    assert_eq!(items[0]["detail"], "object bé1 - block");
+    assert_eq!(items[0]["textEdit"], json!({"range": range(2, 19, 2, 21), "newText": "bé1"}));
+    // After `(`: the predicates with their signatures, and `not`.
+    client.change(&uri, 2, range(2, 9, 2, 21), "(");
+    client.diagnostics(&uri, Some(2));
+    let items = client.request("textDocument/completion", at(&uri, 2, 10));
+    assert_eq!(labels(&items)[..3], ["clear", "held", "on-table"]);
+    assert_eq!(items[0]["detail"], "predicate (clear ?b - block)");
+    assert_eq!(items[0]["textEdit"]["range"], range(2, 10, 2, 10));
+
+    let new = file_uri(&fixture("blocks/scratch-new.pddl"));
+    client.open(&new, "(");
+    client.diagnostics(&new, Some(1));
+    let items = client.request("textDocument/completion", at(&new, 0, 1));
+    let skeleton = items.as_array().unwrap().iter().find(|i| i["kind"] == 15).expect("a snippet");
+    assert_eq!(skeleton["insertTextFormat"], 2);
+    let body = skeleton["textEdit"]["newText"].as_str().unwrap();
+    assert!(body.starts_with("define (problem ${1:name})\n  (:domain ${2:blocks})"), "{body}");
+    client.shutdown();
+
+    // Without snippets, the skeleton is its text.
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    client.open(&new, "(");
+    client.diagnostics(&new, Some(1));
+    let items = client.request("textDocument/completion", at(&new, 0, 1));
+    let skeleton = items.as_array().unwrap().iter().find(|i| i["kind"] == 15).expect("a snippet");
+    assert_eq!(skeleton["insertTextFormat"], 1);
+    let body = skeleton["textEdit"]["newText"].as_str().unwrap();
+    assert!(body.starts_with("define (problem name)\n  (:domain blocks)") && !body.contains('$'), "{body}");
+    client.shutdown();
+}
+
+/// Semantic tokens, absolute: (line, start, length, type, modifiers).
+fn decode(tokens: &Value) -> Vec<(u64, u64, u64, u64, u64)> {
+    let data: Vec<u64> = tokens["data"].as_array().expect("data").iter().filter_map(Value::as_u64).collect();
+    let (mut line, mut start) = (0, 0);
+    data.chunks(5)
+        .map(|t| {
+            line += t[0];
+            start = if t[0] == 0 { start + t[1] } else { t[1] };
+            (line, start, t[2], t[3], t[4])
+        })
+        .collect()
+}
+
+/// Semantic tokens count columns in the negotiated unit: `été` is 3 UTF-16
+/// units and 5 bytes; a predicate is a function, its declaration marked;
+/// a range asks for its lines only.
+#[test]
+fn semantic_tokens_in_the_negotiated_encoding() {
+    let (uri, text) = read("unicode/domain.pddl");
+    for (capabilities, ete, emoji) in [
+        (json!({}), (18, 3), (27, 2)),
+        (json!({"general": {"positionEncodings": ["utf-8"]}}), (18, 5), (29, 4)),
+    ] {
+        let mut client = Client::spawn();
+        let init = client.initialize(&fixture("unicode"), capabilities);
+        let provider = &init["capabilities"]["semanticTokensProvider"];
+        let types: Vec<&str> =
+            provider["legend"]["tokenTypes"].as_array().unwrap().iter().filter_map(|t| t.as_str()).collect();
+        let modifiers: Vec<&str> = provider["legend"]["tokenModifiers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|t| t.as_str())
+            .collect();
+        assert_eq!(provider["full"], true);
+        let function = types.iter().position(|t| *t == "function").unwrap() as u64;
+        let comment = types.iter().position(|t| *t == "comment").unwrap() as u64;
+        let declaration = 1 << modifiers.iter().position(|m| *m == "declaration").unwrap();
+        client.open(&uri, &text);
+        client.diagnostics(&uri, Some(1));
+        let tokens = decode(
+            &client.request("textDocument/semanticTokens/full", json!({"textDocument": {"uri": uri}})),
+        );
+        let first_line = text.lines().next().unwrap();
+        let units = if ete.1 == 3 { first_line.encode_utf16().count() } else { first_line.len() };
+        assert_eq!(tokens[0], (0, 0, units as u64, comment, 0));
+        assert!(tokens.contains(&(3, 16, ete.1, function, declaration)), "{tokens:?}");
+        assert!(tokens.contains(&(7, ete.0, ete.1, function, 0)), "{tokens:?}");
+        assert!(tokens.contains(&(7, emoji.0, emoji.1, function, 0)), "{tokens:?}");
+        let line7 = client.request(
+            "textDocument/semanticTokens/range",
+            json!({"textDocument": {"uri": uri}, "range": range(7, 0, 8, 0)}),
+        );
+        let line7 = decode(&line7);
+        assert!(line7.iter().all(|t| t.0 == 7), "{line7:?}");
+        assert_eq!(line7, tokens.iter().copied().filter(|t| t.0 == 7).collect::<Vec<_>>());
+        client.shutdown();
+    }
+}
+
+/// In a domain without `:requirements` nor `:predicates`, the quick fixes
+/// make them: the requirement after the domain's name, the predicate after
+/// the types.
+#[test]
+fn missing_sections_are_made_by_code_actions() {
+    let mut client = Client::spawn();
+    client.initialize(&fixture("blocks"), json!({}));
+    let uri = file_uri(&fixture("blocks/scratch-bare.pddl"));
+    let text = "(define (domain bare)\n  (:types block)\n  (:action a :parameters (?b - block) :effect (ready ?b)))\n";
+    client.open(&uri, text);
+    assert_eq!(codes(&client.diagnostics(&uri, Some(1))), ["W0203", "E0102"]);
+    let actions = client.request(
+        "textDocument/codeAction",
+        json!({"textDocument": {"uri": uri}, "range": range(0, 0, 3, 0), "context": {"diagnostics": []}}),
+    );
+    let edits: Vec<(&str, &str, Value)> = actions
+        .as_array()
+        .expect("actions")
+        .iter()
+        .map(|a| {
+            (a["title"].as_str().unwrap(), a["kind"].as_str().unwrap(), a["edit"]["changes"][&uri].clone())
+        })
+        .collect();
+    assert!(
+        edits.contains(&(
+            "add `(:requirements :typing)`",
+            "quickfix",
+            json!([{"range": range(0, 21, 0, 21), "newText": "\n  (:requirements :typing)"}])
+        )),
+        "{edits:#?}"
+    );
+    assert!(
+        edits.contains(&(
+            "declare `(ready ?b - block)` in a new `:predicates`",
+            "quickfix",
+            json!([{"range": range(1, 16, 1, 16), "newText": "\n  (:predicates (ready ?b - block))"}])
+        )),
+        "{edits:#?}"
+    );
+    client.shutdown();
+}
+
 /// A copy of the `blocks` fixture in a fresh folder, to change on disk.
 fn scratch_copy(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("hipop-lsp-{name}-{}", std::process::id()));
@@ -694,6 +852,13 @@ fn hostile_documents_leave_the_server_answering() {
         assert_eq!(client.request("textDocument/inlayHint", whole), Value::Null);
         assert_eq!(client.request("hipop/plan", json!({"uri": uri(name)})), Value::Null);
         assert_eq!(client.request("hipop/planDiff", json!({"uri": uri(name)})), Value::Null);
+        for (line, character) in [(0, 0), (0, 1), (1, 44 + 5 * 300), (0, 199_999)] {
+            let answer = client.request_raw("textDocument/completion", at(&uri(name), line, character));
+            assert!(answer.get("error").is_none(), "{name}: {answer}");
+        }
+        let document = json!({"textDocument": {"uri": uri(name)}});
+        let answer = client.request_raw("textDocument/semanticTokens/full", document);
+        assert!(answer["result"]["data"].is_array(), "{name}: {answer}");
     }
     let symbols =
         client.request("textDocument/documentSymbol", json!({"textDocument": {"uri": uri("deep.pddl")}}));

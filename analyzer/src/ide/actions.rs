@@ -1,12 +1,14 @@
 //! Code actions beyond the diagnostics' own fixes: declaring a predicate
-//! that is used but declared nowhere, with the arity and types of its use.
+//! that is used but declared nowhere, with the arity and types of its use,
+//! in the domain's `:predicates` or in a new one.
 
 use rowan::TextRange;
 
 use super::{RefKind, declaration, occurrences};
-use crate::db::{Db, Item, SourceFile, file_units, lower_item, parse};
+use crate::db::{Db, Item, Section, SourceFile, file_units, lower_item, parse};
 use crate::model::{ItemData, TypeRef, Typed};
 use crate::semantics::check::domain_for;
+use crate::semantics::new_section_after;
 use crate::syntax::{NodeOrToken, SyntaxKind};
 
 /// An edit the user may choose: a title and the text to insert or replace.
@@ -18,7 +20,8 @@ pub struct CodeAction {
 
 /// The actions for the names in `range` of `file`: for each predicate used
 /// there and declared nowhere, its declaration added at the end of the
-/// domain's `:predicates` (when the domain has that section), with one
+/// domain's `:predicates`, or in a new `(:predicates …)` after the
+/// `:requirements`, `:types` and `:constants` (PDDL's order), with one
 /// parameter per argument of the use: a variable keeps its name and the
 /// type its action, task or method gives it; another argument becomes
 /// `?x1`, `?x2`… untyped.
@@ -29,13 +32,20 @@ pub fn code_actions(db: &dyn Db, file: SourceFile, range: TextRange) -> Vec<Code
     let root = parse(db, file).syntax();
     for &unit in file_units(db, file) {
         let Some(domain) = domain_for(db, unit) else { continue };
-        let Some(predicates) = domain
+        let predicates = domain
             .items(db)
             .iter()
             .copied()
-            .find(|&i| matches!(lower_item(db, i).data, ItemData::Predicates(_)))
-        else {
-            continue;
+            .find(|&i| matches!(lower_item(db, i).data, ItemData::Predicates(_)));
+        // Without `:predicates`, one is made after the sections PDDL puts
+        // before it (or after the domain's name).
+        let new_section = || {
+            let items = domain.items(db);
+            let before = |s| {
+                matches!(s, Section::Header | Section::Requirements | Section::Types | Section::Constants)
+            };
+            let after = items.iter().rposition(|i| before(i.section(db)))?;
+            Some(new_section_after(db, domain, after))
         };
         for &item in unit.items(db) {
             let data = &lower_item(db, item).data;
@@ -53,11 +63,19 @@ pub fn code_actions(db: &dyn Db, file: SourceFile, range: TextRange) -> Vec<Code
                 let Some(args) = arguments(&root, at) else { continue };
                 let params = parameters(data, &args);
                 let decl = if params.is_empty() { format!("({text})") } else { format!("({text} {params})") };
+                let (title, edit) = match predicates {
+                    Some(p) => (
+                        format!("declare `{decl}` in `:predicates`"),
+                        (p.file(db), end_of(db, p), format!(" {decl}")),
+                    ),
+                    None => {
+                        let Some((file, at, separator)) = new_section() else { continue };
+                        let edit = (file, at, format!("{separator}(:predicates {decl})"));
+                        (format!("declare `{decl}` in a new `:predicates`"), edit)
+                    }
+                };
                 offered.insert(key);
-                out.push(CodeAction {
-                    title: format!("declare `{decl}` in `:predicates`"),
-                    edits: vec![(predicates.file(db), end_of(db, predicates), format!(" {decl}"))],
-                });
+                out.push(CodeAction { title, edits: vec![edit] });
             }
         }
     }
@@ -171,5 +189,26 @@ mod tests {
         // Nothing for a declared predicate, nor outside the range.
         let on = domain.find("(on ?b) (holding").unwrap() as u32 + 1;
         assert_eq!(host.analysis().code_actions(d, TextRange::at(on.into(), 2.into())).unwrap(), vec![]);
+    }
+
+    #[test]
+    fn without_predicates_a_section_is_made_after_types_and_constants() {
+        let domain = "(define (domain d)\n  (:requirements :typing)\n  (:types t)\n  (:constants c - t)\n  (:action \
+                      a :parameters (?x - t)\n    :effect (ready ?x)))\n";
+        let (host, d) = host_with(domain);
+        let actions =
+            host.analysis().code_actions(d, TextRange::up_to((domain.len() as u32).into())).unwrap();
+        assert_eq!(actions.len(), 1);
+        assert_eq!(actions[0].title, "declare `(ready ?x - t)` in a new `:predicates`");
+        let (_, at, insert) = &actions[0].edits[0];
+        let fixed = crate::fix::apply_edits(domain, &[(*at, insert.as_str())]).unwrap();
+        assert!(fixed.contains("(:constants c - t)\n  (:predicates (ready ?x - t))\n  (:action"), "{fixed}");
+        // With no section before it, after the domain's name.
+        let bare = "(define (domain d) (:action a :effect (p)))";
+        let (host, d) = host_with(bare);
+        let actions = host.analysis().code_actions(d, TextRange::up_to((bare.len() as u32).into())).unwrap();
+        let (_, at, insert) = &actions[0].edits[0];
+        let fixed = crate::fix::apply_edits(bare, &[(*at, insert.as_str())]).unwrap();
+        assert_eq!(fixed, "(define (domain d) (:predicates (p)) (:action a :effect (p)))");
     }
 }

@@ -3,8 +3,10 @@
 //! folding ranges, rename, formatting. Plain data out; the server converts to LSP.
 
 mod actions;
+mod completion;
 pub mod diagnostics;
 mod format;
+mod highlight;
 mod outline;
 mod plan;
 mod planned;
@@ -15,7 +17,9 @@ use crate::model::Str;
 use rowan::{TextRange, TextSize};
 
 pub use actions::{CodeAction, code_actions};
+pub use completion::{Completion, CompletionKind, completions};
 pub use format::{FormatError, FormatErrorKind, WIDTH as FORMAT_WIDTH, format, format_parse};
+pub use highlight::{HighlightKind, HighlightToken, semantic_tokens};
 pub use outline::{Fold, FoldKind, Highlight, document_highlights, folding_ranges};
 pub use planned::{
     PlanHint, PlanHintKind, PlanRun, RepairSummary, plan_hints, plan_hover, step_text, summary,

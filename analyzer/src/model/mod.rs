@@ -4,7 +4,10 @@
 
 mod lower;
 
-pub use lower::{Lowered, lower_chunk, lower_list};
+pub use lower::{
+    ACTION_FIELDS, DURATIVE_ACTION_FIELDS, HTN_FIELDS, Lowered, METHOD_FIELDS, TASK_FIELDS, lower_chunk,
+    lower_list,
+};
 
 use rowan::{TextRange, TextSize};
 /// A short string stored inline (names are short): no allocation per name.

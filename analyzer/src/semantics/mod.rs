@@ -175,6 +175,7 @@ fn requirement_checks(db: &dyn Db, unit: Unit<'_>, out: &mut Vec<Diagnostic>) {
     // to list what they use, so absence is reported like any missing one.
     let mut reported: FxHashSet<Feature> = FxHashSet::default();
     let req_item = unit.items(db).iter().copied().find(|i| i.section(db) == Section::Requirements);
+    let mut missing: Vec<(Feature, Item<'_>, TextRange)> = Vec::new();
     for &item in unit.items(db) {
         for &(feature, span) in &check_item(db, item).uses.features {
             let (name, also) = feature.requirement();
@@ -185,26 +186,83 @@ fn requirement_checks(db: &dyn Db, unit: Unit<'_>, out: &mut Vec<Diagnostic>) {
             {
                 continue;
             }
-            let message =
-                format!("`{name}` is not declared in `:requirements`, but this uses {}", feature.what());
-            let mut d = at(db, codes::MISSING_REQUIREMENT, Loc { item, span }, message);
-            if let Some(r) = req_item {
-                let (file, range) = (r.file(db), r.offset(db));
-                let len = r.syntax(db).text_len();
-                let close = TextRange::empty(range + len - rowan::TextSize::from(1));
-                d.related.push(Related {
-                    file,
-                    range: TextRange::at(range, len),
-                    message: "requirements declared here".into(),
-                });
-                d.fix = Some(Fix {
-                    message: format!("add `{name}`"),
-                    edits: vec![(file, close, format!(" {name}"))],
-                });
-            }
-            out.push(d);
+            missing.push((feature, item, span));
         }
     }
+    // Without a `:requirements`, each fix adds one with all that is missing:
+    // applying one fixes them all, and applying them all adds it once.
+    let section = match req_item {
+        Some(_) => None,
+        None => {
+            let names: Vec<&str> = missing.iter().map(|(f, _, _)| f.requirement().0).collect();
+            new_requirements(db, unit, &names)
+        }
+    };
+    for (feature, item, span) in missing {
+        let (name, _) = feature.requirement();
+        let message =
+            format!("`{name}` is not declared in `:requirements`, but this uses {}", feature.what());
+        let mut d = at(db, codes::MISSING_REQUIREMENT, Loc { item, span }, message);
+        if let Some((file, at, text)) = &section {
+            d.fix = Some(Fix {
+                message: format!("add `{}`", text.trim_start()),
+                edits: vec![(*file, *at, text.clone())],
+            });
+        }
+        if let Some(r) = req_item {
+            let (file, range) = (r.file(db), r.offset(db));
+            let len = r.syntax(db).text_len();
+            let close = TextRange::empty(range + len - rowan::TextSize::from(1));
+            d.related.push(Related {
+                file,
+                range: TextRange::at(range, len),
+                message: "requirements declared here".into(),
+            });
+            d.fix = Some(Fix {
+                message: format!("add `{name}`"),
+                edits: vec![(file, close, format!(" {name}"))],
+            });
+        }
+        out.push(d);
+    }
+}
+
+/// The edit that adds `(:requirements names…)` to a unit that has none:
+/// after `(domain name)`, or after a problem's `(:domain name)`.
+fn new_requirements(db: &dyn Db, unit: Unit<'_>, names: &[&str]) -> Option<(SourceFile, TextRange, String)> {
+    let items = unit.items(db);
+    let after = items
+        .iter()
+        .rposition(|i| i.section(db) == Section::DomainRef)
+        .or_else(|| items.iter().position(|i| i.section(db) == Section::Header))?;
+    let (file, at, separator) = new_section_after(db, unit, after);
+    Some((file, at, format!("{separator}(:requirements {})", names.join(" "))))
+}
+
+/// Where a new section goes after the `after`th item of a unit, and what
+/// goes before it: a line break and the indentation of the next section,
+/// or a space when the next section is on the same line.
+pub(crate) fn new_section_after(
+    db: &dyn Db,
+    unit: Unit<'_>,
+    after: usize,
+) -> (SourceFile, TextRange, String) {
+    let items = unit.items(db);
+    let item = items[after];
+    let file = item.file(db);
+    let text = file.text(db);
+    let end = item.offset(db) + item.syntax(db).text_len();
+    let end_at = usize::from(end);
+    let separator = match items.get(after + 1).map(|i| usize::from(i.offset(db))) {
+        Some(n) if !text[end_at..n].contains('\n') => " ".to_string(),
+        Some(n) => {
+            let line_start = text[..n].rfind('\n').map_or(0, |i| i + 1);
+            let indent = &text[line_start..n];
+            if indent.chars().all(|c| c == ' ' || c == '\t') { format!("\n{indent}") } else { "\n  ".into() }
+        }
+        None => "\n  ".into(),
+    };
+    (file, TextRange::empty(end), separator)
 }
 
 fn domain_checks(db: &dyn Db, unit: Unit<'_>, out: &mut Vec<Diagnostic>) {

@@ -13,6 +13,47 @@ use super::*;
 use crate::diagnostic::{LocalDiag, codes};
 use crate::syntax::{GAtom, GList, GSexp, Lang, SyntaxKind};
 
+/// The fields of an action, a process and an event.
+pub const ACTION_FIELDS: &[&str] = &[":parameters", ":precondition", ":effect", ":agent"];
+
+/// The fields of a durative action.
+pub const DURATIVE_ACTION_FIELDS: &[&str] = &[":parameters", ":duration", ":condition", ":effect", ":agent"];
+
+/// The fields of a task.
+pub const TASK_FIELDS: &[&str] =
+    &[":parameters", ":precondition", ":condition", ":effect", ":duration", ":agent", ":conflicts"];
+
+/// The fields of a method.
+pub const METHOD_FIELDS: &[&str] = &[
+    ":parameters",
+    ":task",
+    ":precondition",
+    ":condition",
+    ":duration",
+    ":effect",
+    ":subtasks",
+    ":tasks",
+    ":ordered-subtasks",
+    ":ordered-tasks",
+    ":ordering",
+    ":order",
+    ":constraints",
+    ":causal-links",
+    ":causallinks",
+];
+
+/// The fields of an initial task network.
+pub const HTN_FIELDS: &[&str] = &[
+    ":parameters",
+    ":subtasks",
+    ":tasks",
+    ":ordered-subtasks",
+    ":ordered-tasks",
+    ":ordering",
+    ":order",
+    ":constraints",
+];
+
 /// The model of one item and what was wrong with its shape.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Lowered {
@@ -431,8 +472,8 @@ impl Cx {
             return ItemData::Unknown;
         };
         let allowed: &[&str] = match kind {
-            ActionKind::Durative => &[":parameters", ":duration", ":condition", ":effect", ":agent"],
-            _ => &[":parameters", ":precondition", ":effect", ":agent"],
+            ActionKind::Durative => DURATIVE_ACTION_FIELDS,
+            _ => ACTION_FIELDS,
         };
         let mut action = Action {
             kind,
@@ -461,8 +502,7 @@ impl Cx {
         let Some(name) = self.expect_name(rest.first(), "the task's name", head.range()) else {
             return ItemData::Unknown;
         };
-        let allowed =
-            &[":parameters", ":precondition", ":condition", ":effect", ":duration", ":agent", ":conflicts"];
+        let allowed = TASK_FIELDS;
         let mut task = Task {
             name,
             params: Vec::new(),
@@ -512,23 +552,7 @@ impl Cx {
         let Some(name) = self.expect_name(rest.first(), "the method's name", head.range()) else {
             return ItemData::Unknown;
         };
-        let allowed = &[
-            ":parameters",
-            ":task",
-            ":precondition",
-            ":condition",
-            ":duration",
-            ":effect",
-            ":subtasks",
-            ":tasks",
-            ":ordered-subtasks",
-            ":ordered-tasks",
-            ":ordering",
-            ":order",
-            ":constraints",
-            ":causal-links",
-            ":causallinks",
-        ];
+        let allowed = METHOD_FIELDS;
         let mut m = Method {
             durative,
             name,
@@ -558,16 +582,7 @@ impl Cx {
     }
 
     fn htn(&mut self, list: &GList<'_>, rest: &[GSexp<'_>]) -> ItemData {
-        let allowed = &[
-            ":parameters",
-            ":subtasks",
-            ":tasks",
-            ":ordered-subtasks",
-            ":ordered-tasks",
-            ":ordering",
-            ":order",
-            ":constraints",
-        ];
+        let allowed = HTN_FIELDS;
         let mut htn = Htn { params: Vec::new(), network: TaskNetwork::default(), span: list.range() };
         for (key, _, value) in self.fields(rest, allowed, "an initial task network") {
             let value = value.expect("fields have values");
