@@ -114,10 +114,11 @@ fn run_nvim(script: &str, env: &[(&str, std::path::PathBuf)]) -> (String, std::p
 }
 
 /// Saving a problem plans it: the plan's hints beside the problem's lines,
-/// `:HipopPlan` shows the plan; a rename from the problem changes the
-/// domain too; formatting gives `hipop fmt`'s text, once.
+/// `:HipopPlan` shows the plan; completion offers the domain's predicates;
+/// a rename from the problem changes the domain too; formatting gives
+/// `hipop fmt`'s text, once.
 #[test]
-fn neovim_plans_on_save_renames_and_formats() {
+fn neovim_plans_on_save_completes_renames_and_formats() {
     let Some(version) = nvim_version() else {
         eprintln!("SKIP: neovim (nvim) not installed; .ci/run installs it");
         return;
@@ -138,6 +139,7 @@ fn neovim_plans_on_save_renames_and_formats() {
             "hint 1 plan: 3 actions, makespan 9.03, T s",
             "hint 5 ← (observe r1 a p1) @ 0.01  ← (observe r1 b p2) @ 7.03",
             "plan buffer: hipop-plan, modifiable false, has the move true",
+            "completion in the goal: at true, visible true, observed true",
             "renamed in problem.pddl: 2 seen, 0 observed",
             "renamed in domain.pddl: 2 seen, 0 observed",
             "format: changed true, as hipop fmt true, idempotent true",

@@ -60,6 +60,18 @@ local function run()
     tostring(text:find('(move r1 a b)', 1, true) ~= nil))
   vim.cmd('close')
 
+  -- Completion in the goal offers the domain's predicates.
+  local where = { textDocument = { uri = vim.uri_from_bufnr(bufnr) }, position = { line = 5, character = 15 } }
+  local offered = {}
+  for _, response in pairs(vim.lsp.buf_request_sync(bufnr, 'textDocument/completion', where, 10000) or {}) do
+    local items = response.result and (response.result.items or response.result) or {}
+    for _, item in ipairs(items) do
+      offered[item.label] = true
+    end
+  end
+  say('completion in the goal: at %s, visible %s, observed %s', tostring(offered['at'] == true),
+    tostring(offered['visible'] == true), tostring(offered['observed'] == true))
+
   -- Rename a predicate of the domain from the problem: both files change.
   local uri = vim.uri_from_bufnr(bufnr)
   local params = { textDocument = { uri = uri }, position = { line = 5, character = 18 }, newName = 'seen' }
