@@ -141,10 +141,14 @@ fn main() {
         for i in 0..EDITS {
             save(&mut client, &puri);
             if plan {
-                // The search is under way once it reports progress.
+                // The search is under way once it reports progress (after
+                // 100 ms).
                 client.wait_for("progress", |n| {
                     n["method"] == "$/progress" && n["params"]["value"]["kind"] == "report"
                 });
+            } else {
+                // The same pause after the save, without a search.
+                std::thread::sleep(Duration::from_millis(120));
             }
             let version = i as i64 + 2;
             // A space before a fact, then removed: the problem stays plannable,

@@ -112,17 +112,25 @@ async fn plan_one(
         let (tx, mut rx) = mpsc::unbounded_channel::<Progress>();
         let current = planning.epoch.clone();
         let job_uri = uri.clone();
-        let mut job = tokio::task::spawn_blocking(move || {
+        let (done_tx, mut done) = tokio::sync::oneshot::channel();
+        let spawned = std::thread::Builder::new().name("hipop-plan".to_string()).spawn(move || {
+            lower_priority();
             let cancel = move || current.load(Ordering::SeqCst) != epoch;
             let mut report = move |p: &Progress| {
                 // The receiver is gone only once the run is over.
                 let _ = tx.send(*p);
             };
-            guarded(move || run(analysis, problem, job_uri, previous, settings, &cancel, &mut report))
+            let outcome =
+                guarded(move || run(analysis, problem, job_uri, previous, settings, &cancel, &mut report));
+            let _ = done_tx.send(outcome);
         });
+        if let Err(e) = spawned {
+            client.log_message(MessageType::ERROR, format!("hipop: cannot start planning: {e}")).await;
+            return;
+        }
         let outcome = loop {
             tokio::select! {
-                done = &mut job => break done,
+                finished = &mut done => break finished,
                 Some(p) = rx.recv() => {
                     if let Some(progress) = &progress {
                         let message = format!("{} plans expanded, best f {:.2}", p.expanded, p.best_f);
@@ -145,10 +153,8 @@ async fn plan_one(
                 client.log_message(MessageType::ERROR, format!("hipop: planning failed: {message}")).await;
                 None
             }
-            Err(e) => {
-                client.log_message(MessageType::ERROR, format!("hipop: planning failed: {e}")).await;
-                None
-            }
+            // The thread ended without an answer (it cannot: `guarded`).
+            Err(_) => None,
         };
         let summary = match (&record, stale) {
             (Some(r), false) => hipop_analyzer::ide::summary(&r.run),
@@ -179,6 +185,23 @@ async fn plan_one(
         }
         client.send_notification::<Planned>(notice).await;
         return;
+    }
+}
+
+/// Gives the calling thread (the planner's) the lowest scheduling priority:
+/// on a machine with fewer cores than busy threads, the diagnostics of an
+/// edit get the processor first, while the search notices its cancellation
+/// and frees its plans. On Linux the nice value is per thread.
+fn lower_priority() {
+    #[cfg(target_os = "linux")]
+    {
+        // SAFETY: gettid has no preconditions; setpriority only reads its
+        // arguments, and lowering a priority is always permitted. A failure
+        // leaves the priority as it was, which is harmless.
+        unsafe {
+            let tid = libc::syscall(libc::SYS_gettid) as libc::id_t;
+            libc::setpriority(libc::PRIO_PROCESS, tid, 19);
+        }
     }
 }
 
