@@ -130,7 +130,19 @@ fn neovim_plans_on_save_completes_renames_and_formats() {
     for file in ["domain.pddl", "problem.pddl"] {
         std::fs::copy(fixture("planning").join(file), scratch.join(file)).expect("copying a fixture");
     }
-    let (report, status) = run_nvim("planning.lua", &[("HIPOP_PROBLEM", scratch.join("problem.pddl"))]);
+    let sample = scratch.join("surveillance");
+    std::fs::create_dir_all(&sample).expect("scratch folder");
+    for file in ["domain.pddl", "problem.pddl"] {
+        let from = common::workspace_root().join("samples/surveillance").join(file);
+        std::fs::copy(from, sample.join(file)).expect("copying the sample");
+    }
+    let (report, status) = run_nvim(
+        "planning.lua",
+        &[
+            ("HIPOP_PROBLEM", scratch.join("problem.pddl")),
+            ("HIPOP_SURVEILLANCE", sample.join("problem.pddl")),
+        ],
+    );
     let _ = std::fs::remove_dir_all(&scratch);
     let lines: Vec<&str> = report.lines().collect();
     assert_eq!(
@@ -143,6 +155,7 @@ fn neovim_plans_on_save_completes_renames_and_formats() {
             "renamed in problem.pddl: 2 seen, 0 observed",
             "renamed in domain.pddl: 2 seen, 0 observed",
             "format: changed true, as hipop fmt true, idempotent true",
+            "surveillance: 10 plan: 242 actions, makespan 5528.04, T s; 31 goal hints",
         ],
         "{report}"
     );

@@ -3,6 +3,7 @@
 -- fact per line. Neovim 0.7 API (the inlay hints through the virtual text
 -- hipop.lua draws before 0.10, or Neovim's own from 0.10 on).
 --   $HIPOP_PROBLEM  a problem beside its domain (a copy: it is rewritten)
+--   $HIPOP_SURVEILLANCE  a copy of the surveillance sample's problem
 local lines = {}
 local function say(fmt, ...) table.insert(lines, string.format(fmt, ...)) end
 
@@ -105,6 +106,27 @@ local function run()
   format()
   say('format: changed %s, as hipop fmt %s, idempotent %s', tostring(once ~= before), tostring(once == expected),
     tostring(text_of(bufnr) == once))
+
+  -- The surveillance sample: its plan's summary, and a hint per goal.
+  planned = nil
+  vim.cmd('edit ' .. vim.fn.fnameescape(os.getenv('HIPOP_SURVEILLANCE')))
+  local sample = vim.api.nvim_get_current_buf()
+  vim.wait(10000, function() return next(vim.lsp.buf_get_clients(sample)) ~= nil end, 20)
+  vim.lsp.buf_request_sync(sample, 'textDocument/documentSymbol', { textDocument = { uri = vim.uri_from_bufnr(sample) } }, 10000)
+  vim.cmd('write')
+  if not vim.wait(60000, function() return planned end, 20) then
+    say('TIMEOUT waiting for the plan of the surveillance sample')
+  else
+    vim.wait(10000, function() return #hints(sample) > 0 end, 50)
+    local shown = hints(sample)
+    local goals = 0
+    for _, h in ipairs(shown) do
+      local _, n = h:gsub('← ', '')
+      goals = goals + n
+    end
+    table.sort(shown)
+    say('surveillance: %s; %d goal hints', masked(shown[1] or 'none'), goals)
+  end
 
   for _, client in pairs(vim.lsp.get_active_clients()) do
     client.stop()
