@@ -190,6 +190,29 @@ fn limits_stop_the_search_and_cancellation_is_polled() {
     assert!(matches!(cancelled.status, Status::Limit(_) | Status::Solved));
 }
 
+/// The time limit is the run's: time spent before the search (grounding,
+/// or an earlier stage) counts. A run whose budget is spent stops at the
+/// first check (every 32 plans expanded) and says which limit, as given.
+/// The open list a run leaves to the process's exit gives the same result.
+#[test]
+fn time_spent_before_the_search_counts_against_the_time_limit() {
+    let endless = root().join("lsp/tests/fixtures/endless");
+    let (domain, problem) = (endless.join("domain.pddl"), endless.join("problem.pddl"));
+    let spent = PlannerLimits { time_spent: Duration::from_secs(2), ..limits(1) };
+    let (_, result) = plan(&domain, &problem, &Config::default(), &spent);
+    assert_eq!(result.status, Status::Limit(hipop_analyzer::planner::LimitKind::Time));
+    assert!(result.stats.expanded <= 32, "{}", result.stats.expanded);
+    let said = &result.diagnostics.iter().find(|d| d.code.id == "E0503").expect("E0503").message;
+    assert!(said.contains("the time limit (1.0 s)"), "{said}");
+    // With a node limit, so that the two runs are the same search.
+    let nodes = PlannerLimits { nodes: Some(2_000), ..limits(60) };
+    let (_, freed) = plan(&domain, &problem, &Config::default(), &nodes);
+    let (_, left) =
+        plan(&domain, &problem, &Config::default(), &PlannerLimits { exits_after: true, ..nodes });
+    assert_eq!(freed.status, Status::Limit(hipop_analyzer::planner::LimitKind::Nodes));
+    assert_eq!((left.status, left.stats.expanded), (freed.status, freed.stats.expanded));
+}
+
 /// Every planner code is exercised by a test of this file.
 #[test]
 fn every_planner_code_is_tested() {

@@ -511,6 +511,8 @@ fn main() -> ExitCode {
                     nodes: args.node_limit,
                     memory: Some(args.memory_limit.saturating_mul(1 << 20)),
                     memory_in_use: Some(hipop_analyzer::alloc::in_use),
+                    // The process exits once the plan is written.
+                    exits_after: true,
                     ..Default::default()
                 },
                 color: args.color,

@@ -108,6 +108,8 @@ pub(crate) fn child_limits(limit: &str) -> PlannerLimits {
     PlannerLimits {
         time: Some(Duration::from_secs_f64(limit)),
         memory_in_use: Some(hipop_analyzer::alloc::in_use),
+        // As `hipop plan`: the child exits once it has reported.
+        exits_after: true,
         ..PlannerLimits::default()
     }
 }

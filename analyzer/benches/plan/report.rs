@@ -256,6 +256,22 @@ pub(crate) fn report(
         }
         out.push('\n');
     }
+    // The time limit is honoured when a run stopped by it ends soon after.
+    let over: Vec<f64> = runs
+        .iter()
+        .filter(|r| r.status == "limit" && r.detail == "time")
+        .map(|r| r.wall - a.limit())
+        .collect();
+    if let Some(worst) = over.iter().copied().reduce(f64::max) {
+        let _ = writeln!(
+            out,
+            "**Time limit:** {} run{} stopped at the time limit ({} s); the longest ended {:.3} s after it (wall time in the child, grounding included).\n",
+            over.len(),
+            if over.len() == 1 { "" } else { "s" },
+            a.limit(),
+            worst
+        );
+    }
     if crashes > 0 {
         let _ = writeln!(
             out,

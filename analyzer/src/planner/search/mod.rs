@@ -38,6 +38,34 @@ use super::{Config, LimitKind, Motion, PlannerLimits, Progress, Stats};
 const STEP_COST: f64 = 0.02;
 
 /// A plan in the open list.
+/// The open list, left unfreed at its end when the process exits next
+/// ([`PlannerLimits::exits_after`]).
+struct Open {
+    heap: BinaryHeap<Node>,
+    free: bool,
+}
+
+impl std::ops::Deref for Open {
+    type Target = BinaryHeap<Node>;
+    fn deref(&self) -> &BinaryHeap<Node> {
+        &self.heap
+    }
+}
+
+impl std::ops::DerefMut for Open {
+    fn deref_mut(&mut self) -> &mut BinaryHeap<Node> {
+        &mut self.heap
+    }
+}
+
+impl Drop for Open {
+    fn drop(&mut self) {
+        if !self.free {
+            std::mem::forget(std::mem::take(&mut self.heap));
+        }
+    }
+}
+
 struct Node {
     f: f64,
     /// Its lineage had a greedy completion already.
@@ -200,7 +228,7 @@ impl<'a, 'db> Search<'a, 'db> {
         best: &mut Option<Plan>,
     ) -> End2 {
         let started = Instant::now();
-        let mut heap = BinaryHeap::new();
+        let mut heap = Open { heap: BinaryHeap::new(), free: !limits.exits_after };
         let mut id = 0u64;
         // The most advanced plan: the fewest open links and abstract flaws
         // (its threats are what stopped it, if anything).
@@ -224,7 +252,9 @@ impl<'a, 'db> Search<'a, 'db> {
                 None => keep_best(&root, best, &mut best_effort),
             }
         }
-        let time_up = || limits.time.is_some_and(|t| started.elapsed() >= t) || cancel();
+        let out_of_time =
+            |elapsed: std::time::Duration| limits.time.is_some_and(|t| elapsed + limits.time_spent >= t);
+        let time_up = || out_of_time(started.elapsed()) || cancel();
         let mut last_report = Instant::now();
         let mut next_milestone: u64 = 1024;
         while let Some(node) = heap.pop() {
@@ -241,7 +271,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 if cancel() {
                     return End2::Limit(LimitKind::Cancelled);
                 }
-                if limits.time.is_some_and(|t| elapsed >= t) {
+                if out_of_time(elapsed) {
                     return End2::Limit(LimitKind::Time);
                 }
                 if last_report.elapsed().as_millis() >= 100 {
