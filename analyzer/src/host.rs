@@ -41,6 +41,22 @@ pub struct PlanningResult {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+impl PlanningResult {
+    /// The run as an editor keeps it, given the time limit it had, and
+    /// what the planner said of the problem.
+    pub fn into_run(self, time_limit: Option<std::time::Duration>) -> (crate::ide::PlanRun, Vec<Diagnostic>) {
+        let run = crate::ide::PlanRun {
+            status: self.status,
+            plan: self.plan,
+            stats: self.stats,
+            time_limit,
+            flaws: self.diagnostics.len(),
+            repair: None,
+        };
+        (run, self.diagnostics)
+    }
+}
+
 /// A request was cancelled by a newer change.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Cancelled;
@@ -563,12 +579,11 @@ impl Analysis {
         self.with_db(|db| {
             let a = crate::plan::read_plan(&old.to_json(), Some(PlanFormat::Json));
             let b = crate::plan::read_plan(&new.to_json(), Some(PlanFormat::Json));
-            let matching = NameMatching::CaseInsensitive;
-            let agents = first_problem(db, problem)
-                .and_then(|u| crate::semantics::check::domain_for(db, u))
-                .map(|d| AgentTable::from_domain(db, d.file(db), matching))
-                .unwrap_or_default();
-            let options = crate::plan::diff::DiffOptions { matching, ..Default::default() };
+            let agents = problem_agents(db, problem);
+            let options = crate::plan::diff::DiffOptions {
+                matching: NameMatching::CaseInsensitive,
+                ..Default::default()
+            };
             let d = crate::plan::diff::diff(&a, &b, &agents, &options);
             (a, b, d)
         })
@@ -582,10 +597,7 @@ impl Analysis {
     ) -> Cancellable<String> {
         self.with_db(|db| {
             let p = crate::plan::read_plan(&plan.to_json(), Some(PlanFormat::Json));
-            let agents = first_problem(db, problem)
-                .and_then(|u| crate::semantics::check::domain_for(db, u))
-                .map(|d| AgentTable::from_domain(db, d.file(db), NameMatching::CaseInsensitive))
-                .unwrap_or_default();
+            let agents = problem_agents(db, problem);
             crate::plan::timeline::svg(&crate::plan::timeline::timeline(&p, &agents))
         })
     }
@@ -620,6 +632,15 @@ fn repair_result(db: &dyn crate::db::Db, out: crate::repair::RepairOutcome<'_>) 
         stats: out.stats,
         diagnostics: out.lints.iter().map(|l| l.to_diagnostic(db)).collect(),
     }
+}
+
+/// The agents of the steps of the plans of the first problem of `problem`
+/// (from its domain's `:agent`s), names compared case-insensitively.
+fn problem_agents(db: &dyn crate::db::Db, problem: SourceFile) -> AgentTable {
+    first_problem(db, problem)
+        .and_then(|u| crate::semantics::check::domain_for(db, u))
+        .map(|d| AgentTable::from_domain(db, d.file(db), NameMatching::CaseInsensitive))
+        .unwrap_or_default()
 }
 
 /// The first problem of a file.

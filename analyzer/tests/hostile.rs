@@ -239,14 +239,7 @@ fn exercise(model: &Model) -> (Vec<Diagnostic>, Vec<Diagnostic>) {
         analysis.run_planner(p, &Config::default(), &limits, &|| false, &mut |_| {}).expect("not cancelled");
     // What the editor shows of the run, on the problem and the domain.
     if let Some(r) = r {
-        let run = hipop_analyzer::ide::PlanRun {
-            status: r.status,
-            plan: r.plan,
-            stats: r.stats,
-            time_limit: limits.time,
-            flaws: r.diagnostics.len(),
-            repair: None,
-        };
+        let (run, _) = r.into_run(limits.time);
         analysis.plan_hints(p, &run).expect("not cancelled");
         if let Some(plan) = &run.plan {
             for (file, text) in [(d, &model.domain), (p, &model.problem)] {

@@ -335,10 +335,7 @@ fn run(
             let Some(r) = analysis.run_planner(problem, &config, &limits, cancel, progress)? else {
                 return Ok(None);
             };
-            let flaws = r.diagnostics.len();
-            let run =
-                PlanRun { status: r.status, plan: r.plan, stats: r.stats, time_limit, flaws, repair: None };
-            (run, r.diagnostics)
+            r.into_run(time_limit)
         }
     };
     // What the planner says of the problem is information in the editor:

@@ -18,14 +18,7 @@ fn run(host: &AnalysisHost, problem: SourceFile) -> PlanRun {
     let limits = PlannerLimits { time: Some(std::time::Duration::from_secs(60)), ..PlannerLimits::default() };
     let config = Config::parse(Config::DEFAULT).expect("the default configuration");
     let r = host.analysis().run_planner(problem, &config, &limits, &|| false, &mut |_| {}).unwrap().unwrap();
-    PlanRun {
-        status: r.status,
-        plan: r.plan,
-        stats: r.stats,
-        time_limit: limits.time,
-        flaws: r.diagnostics.len(),
-        repair: None,
-    }
+    r.into_run(limits.time).0
 }
 
 /// The hints as `line:col label`, the figures that vary (time) masked.
