@@ -28,16 +28,7 @@ fn capabilities() -> Value {
 fn server(dir: &Path, options: Value) -> Client {
     // No debounce: the edits measure the work, not the pause.
     let mut client = Client::spawn_with_env(&[("HIPOP_LSP_DEBOUNCE_MS", "0")]);
-    client.request(
-        "initialize",
-        json!({
-            "processId": null,
-            "rootUri": file_uri(dir),
-            "capabilities": capabilities(),
-            "initializationOptions": options,
-        }),
-    );
-    client.notify("initialized", json!({}));
+    client.initialize_with(dir, capabilities(), Value::Null, options);
     client
 }
 

@@ -214,16 +214,7 @@ fn planning_on_save_can_be_turned_off() {
     let dir = scratch("off");
     let mut client = Client::spawn();
     let uri = file_uri(&dir.join("problem.pddl"));
-    client.request(
-        "initialize",
-        json!({
-            "processId": null,
-            "rootUri": file_uri(&dir),
-            "capabilities": capabilities(),
-            "initializationOptions": {"plan": {"onSave": false}},
-        }),
-    );
-    client.notify("initialized", json!({}));
+    client.initialize_with(&dir, capabilities(), Value::Null, json!({"plan": {"onSave": false}}));
     let text = std::fs::read_to_string(dir.join("problem.pddl")).unwrap();
     client.open(&uri, &text);
     save(&mut client, &uri);
@@ -248,16 +239,7 @@ fn an_edit_cancels_the_plan_in_progress() {
     let dir = fixture("endless");
     let mut client = Client::spawn();
     let uri = file_uri(&dir.join("problem.pddl"));
-    client.request(
-        "initialize",
-        json!({
-            "processId": null,
-            "rootUri": file_uri(&dir),
-            "capabilities": capabilities(),
-            "initializationOptions": {"plan": {"timeLimit": 120}},
-        }),
-    );
-    client.notify("initialized", json!({}));
+    client.initialize_with(&dir, capabilities(), Value::Null, json!({"plan": {"timeLimit": 120}}));
     let text = std::fs::read_to_string(dir.join("problem.pddl")).unwrap();
     client.open(&uri, &text);
     client.diagnostics(&uri, Some(1));

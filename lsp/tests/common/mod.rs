@@ -250,6 +250,17 @@ impl Client {
 
     /// `initialize` with a `clientInfo` (`null` for none).
     pub fn initialize_as(&mut self, root: &Path, capabilities: Value, client_info: Value) -> Value {
+        self.initialize_with(root, capabilities, client_info, Value::Null)
+    }
+
+    /// `initialize` with a `clientInfo` and `initializationOptions` (`null` for none).
+    pub fn initialize_with(
+        &mut self,
+        root: &Path,
+        capabilities: Value,
+        client_info: Value,
+        options: Value,
+    ) -> Value {
         let uri = file_uri(root);
         let result = self.request(
             "initialize",
@@ -259,6 +270,7 @@ impl Client {
                 "rootUri": uri,
                 "capabilities": capabilities,
                 "workspaceFolders": [{"uri": uri, "name": "root"}],
+                "initializationOptions": options,
             }),
         );
         self.notify("initialized", json!({}));
