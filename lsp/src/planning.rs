@@ -140,30 +140,30 @@ async fn plan_one(
             }
         };
         let stale = planning.epoch.load(Ordering::SeqCst) != epoch;
-        let record = match outcome {
-            Ok(Outcome::Done(record)) => record,
-            Ok(Outcome::Cancelled) if !stale => {
+        let (record, summary) = match outcome {
+            _ if stale => (None, "cancelled by an edit".to_string()),
+            Ok(Outcome::Done(Some(record))) => {
+                let summary = hipop_analyzer::ide::summary(&record.run);
+                (Some(record), summary)
+            }
+            Ok(Outcome::Done(None)) => (None, "no problem to plan in this file".to_string()),
+            Ok(Outcome::Cancelled) => {
                 if let Some(progress) = progress {
                     progress.finish_with_message("interrupted by a change: planning again").await;
                 }
                 continue;
             }
-            Ok(Outcome::Cancelled) => None,
             Ok(Outcome::Panicked(message)) => {
                 client.log_message(MessageType::ERROR, format!("hipop: planning failed: {message}")).await;
-                None
+                (None, "planning failed: see the server's log".to_string())
             }
             // The thread ended without an answer (it cannot: `guarded`).
-            Err(_) => None,
-        };
-        let summary = match (&record, stale) {
-            (Some(r), false) => hipop_analyzer::ide::summary(&r.run),
-            _ => "cancelled by an edit".to_string(),
+            Err(_) => (None, "planning failed".to_string()),
         };
         if let Some(progress) = progress {
             progress.finish_with_message(summary.clone()).await;
         }
-        let Some(record) = record.filter(|_| !stale) else { return };
+        let Some(record) = record else { return };
         let notice = json!({
             "uri": uri.as_str(),
             "status": status_name(&record.run.status),
