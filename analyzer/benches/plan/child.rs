@@ -119,6 +119,54 @@ pub(crate) fn read(path: &str) -> String {
     std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {path}: {e}"))
 }
 
+/// The primitive steps of a plan without abstract steps that can go: the
+/// plan left when one is removed, with the steps whose every causal link
+/// served only removed steps, is still valid (at VAL's default tolerance,
+/// with the same times). Issue 19's target is none.
+pub(crate) fn redundant_steps(
+    host: &mut AnalysisHost,
+    problem: hipop_analyzer::SourceFile,
+    plan: &hipop_analyzer::planner::output::SolvedPlan,
+) -> usize {
+    let n = plan.steps.len();
+    // The producers of each step's conditions, and how many consumers each
+    // producer serves (the goal counts, and is never removed).
+    let mut producers: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut serves = vec![0usize; n];
+    for l in &plan.causal_links {
+        if let Some(from) = l.from {
+            serves[from] += 1;
+            if let Some(to) = l.to {
+                producers[to].push(from);
+            }
+        }
+    }
+    let mut count = 0;
+    for s in plan.primitive().map(|st| st.id) {
+        let mut removed = vec![false; n];
+        let mut left = serves.clone();
+        let mut work = vec![s];
+        removed[s] = true;
+        while let Some(r) = work.pop() {
+            for &p in &producers[r] {
+                left[p] -= 1;
+                if left[p] == 0 && !removed[p] {
+                    removed[p] = true;
+                    work.push(p);
+                }
+            }
+        }
+        let mut rest = plan.clone();
+        rest.steps.retain(|st| !removed[st.id]);
+        let f = host.set_file_text("bench.redundant.plan", rest.to_val(""));
+        let valid = host.analysis().validate_plan(f, None, problem, &Options::default());
+        if matches!(valid, Ok(Some(v)) if v.valid && v.checked) {
+            count += 1;
+        }
+    }
+    count
+}
+
 /// `--one DOMAIN PROBLEM CONFIG TIME_LIMIT PLAN_PREFIX`: plans, validates,
 /// writes the plans beside PLAN_PREFIX and prints one JSON line.
 pub(crate) fn one(raw: &[String]) -> ExitCode {
@@ -174,6 +222,9 @@ pub(crate) fn one(raw: &[String]) -> ExitCode {
         out["length"] = json!(plan.primitive().count());
         out["abstract"] = json!(plan.steps.len() - plan.primitive().count());
         validate_into(&mut out, &mut host, pf, plan, &header, prefix);
+        if !plan.is_hierarchical() {
+            out["redundant"] = json!(redundant_steps(&mut host, pf, plan));
+        }
     }
     out["rss_kb"] = json!(vm_hwm(None));
     println!("{out}");

@@ -40,6 +40,8 @@ pub(crate) struct Run {
     /// Hierarchical text's, when the plan has abstract steps.
     pub(crate) hier: Option<(bool, Option<String>)>,
     pub(crate) rss_kb: Option<u64>,
+    /// Primitive steps that can be removed, for a plan without abstract steps.
+    pub(crate) redundant: Option<u64>,
     /// The first flaw of the best partial plan when unsolved.
     pub(crate) flaw: Option<String>,
 }
@@ -99,6 +101,7 @@ pub(crate) fn parse_run(line: &str) -> Option<Run> {
         val: check_of(&v["val"]),
         hier: check_of(&v["hier"]),
         rss_kb: v["rss_kb"].as_u64(),
+        redundant: v["redundant"].as_u64(),
         flaw: v["flaw"].as_str().map(String::from),
     })
 }

@@ -256,6 +256,18 @@ pub(crate) fn report(
         }
         out.push('\n');
     }
+    // Steps that can go, in the plans without abstract steps.
+    let checked: Vec<u64> = runs.iter().filter_map(|r| r.redundant).collect();
+    if !checked.is_empty() {
+        let with = checked.iter().filter(|&&k| k > 0).count();
+        let _ = writeln!(
+            out,
+            "**Redundant steps:** {} step{} can be removed (with the steps that only served them, the plan stays valid) in {with} of the {} plans without abstract steps (target: none).\n",
+            checked.iter().sum::<u64>(),
+            if checked.iter().sum::<u64>() == 1 { "" } else { "s" },
+            checked.len(),
+        );
+    }
     // The time limit is honoured when a run stopped by it ends soon after.
     let over: Vec<f64> = runs
         .iter()
@@ -369,7 +381,7 @@ pub(crate) fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() }
 }
 
-pub(crate) const CSV_HEAD: &str = "suite,domain,problem,config,status,detail,time_s,search_s,expanded,generated,nodes_per_s,operators,method_instances,makespan,length,abstract_steps,val_valid,hier_valid,validation_error,peak_rss_kb,best_plan_first_flaw";
+pub(crate) const CSV_HEAD: &str = "suite,domain,problem,config,status,detail,time_s,search_s,expanded,generated,nodes_per_s,operators,method_instances,makespan,length,abstract_steps,val_valid,hier_valid,validation_error,peak_rss_kb,best_plan_first_flaw,redundant_steps";
 
 pub(crate) fn csv_line(j: &Job, r: &Run) -> String {
     let opt = |x: Option<String>| x.unwrap_or_default();
@@ -397,6 +409,7 @@ pub(crate) fn csv_line(j: &Job, r: &Run) -> String {
         error,
         opt(r.rss_kb.map(|k| k.to_string())),
         opt(r.flaw.clone()),
+        opt(r.redundant.map(|k| k.to_string())),
     ]
     .iter()
     .map(|f| csv_field(f))
