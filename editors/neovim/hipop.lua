@@ -193,16 +193,17 @@ local function scratch(name, text, filetype, split)
   return bufnr
 end
 
--- Sends a request about the current buffer's problem; calls `on_result`
--- with its result, or says why there is none.
-local function ask(method, on_result)
+-- Sends a request about the current buffer's problem (`params`, by default
+-- its URI); calls `on_result` with its result, or says why there is none.
+local function ask(method, on_result, params)
   local bufnr = vim.api.nvim_get_current_buf()
   local client = client_of(bufnr)
   if not client then
     vim.notify('hipop: no hipop server for this buffer', vim.log.levels.WARN)
     return
   end
-  local result, err = client.request_sync(method, { uri = vim.uri_from_bufnr(bufnr) }, 10000, bufnr)
+  params = params or { uri = vim.uri_from_bufnr(bufnr) }
+  local result, err = client.request_sync(method, params, 10000, bufnr)
   if err or not result or result.err then
     vim.notify('hipop: ' .. method .. ' failed: ' .. tostring(err or (result and result.err and result.err.message)), vim.log.levels.ERROR)
     return
@@ -237,17 +238,8 @@ vim.api.nvim_create_user_command('HipopPlanDiff', function()
 end, { desc = 'hipop: what the last repair of this problem changed' })
 
 vim.api.nvim_create_user_command('HipopWritePlan', function()
-  local bufnr = vim.api.nvim_get_current_buf()
-  local client = client_of(bufnr)
-  if not client then
-    vim.notify('hipop: no hipop server for this buffer', vim.log.levels.WARN)
-    return
-  end
-  local params = { command = 'hipop.writePlan', arguments = { vim.uri_from_bufnr(bufnr) } }
-  local result, err = client.request_sync('workspace/executeCommand', params, 10000, bufnr)
-  if err or not result or result.err then
-    vim.notify('hipop: ' .. tostring(err or (result and result.err and result.err.message)), vim.log.levels.ERROR)
-  else
-    vim.notify('hipop: wrote ' .. result.result.path, vim.log.levels.INFO)
-  end
+  local params = { command = 'hipop.writePlan', arguments = { vim.uri_from_bufnr(0) } }
+  ask('workspace/executeCommand', function(written)
+    vim.notify('hipop: wrote ' .. written.path, vim.log.levels.INFO)
+  end, params)
 end, { desc = 'hipop: write the last plan of this problem beside it' })

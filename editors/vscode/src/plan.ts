@@ -113,19 +113,32 @@ export class PlanViews implements vscode.TextDocumentContentProvider, vscode.Dis
     return diff === undefined ? '; the language server is not running\n' : diffDocumentText(diff, shown.view);
   }
 
-  private async showPlan(arg: unknown): Promise<void> {
+  /**
+   * The problem a command is about and the last run on it; `undefined`
+   * once the user was told why there is none.
+   */
+  private async lastRun(arg: unknown): Promise<{ problem: string; plan: PlanAnswer } | undefined> {
     const problem = this.problemOf(arg);
     if (!problem) {
-      return;
+      return undefined;
     }
     const plan = await this.request<PlanAnswer>(PLAN_REQUEST, problem, true);
     if (plan === undefined) {
-      return;
+      return undefined;
     }
     if (plan === null) {
       void vscode.window.showInformationMessage(`hipop: no plan for ${fileStem(problem)} yet: save the problem to plan it.`);
+      return undefined;
+    }
+    return { problem, plan };
+  }
+
+  private async showPlan(arg: unknown): Promise<void> {
+    const last = await this.lastRun(arg);
+    if (!last) {
       return;
     }
+    const { problem, plan } = last;
     const doc = await vscode.workspace.openTextDocument(vscode.Uri.from(planDocument(problem, plan.problem, 'plan')));
     await vscode.window.showTextDocument(doc, { preview: false, viewColumn: vscode.ViewColumn.Beside });
     if (plan.text === undefined) {
@@ -134,18 +147,11 @@ export class PlanViews implements vscode.TextDocumentContentProvider, vscode.Dis
   }
 
   private async showTimeline(arg: unknown): Promise<void> {
-    const problem = this.problemOf(arg);
-    if (!problem) {
+    const last = await this.lastRun(arg);
+    if (!last) {
       return;
     }
-    const plan = await this.request<PlanAnswer>(PLAN_REQUEST, problem, true);
-    if (plan === undefined) {
-      return;
-    }
-    if (plan === null) {
-      void vscode.window.showInformationMessage(`hipop: no plan for ${fileStem(problem)} yet: save the problem to plan it.`);
-      return;
-    }
+    const { problem, plan } = last;
     let panel = this.timelines.get(problem);
     if (panel) {
       panel.reveal(undefined, true);
