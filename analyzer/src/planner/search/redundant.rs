@@ -366,7 +366,8 @@ mod tests {
     /// interfere), and a beacon nothing needs.
     const DOMAIN: &str = "(define (domain pass)
   (:requirements :typing :durative-actions :negative-preconditions)
-  (:predicates (door-open) (launched) (lamp) (lit-once) (dark-once) (beacon))
+  (:predicates (door-open) (launched) (lamp) (lit-once) (dark-once) (beacon)
+    (ready) (red) (done-red) (done-blue))
   (:durative-action close :parameters () :duration (= ?duration 1)
     :condition (at start (door-open)) :effect (at end (not (door-open))))
   (:durative-action launch :parameters () :duration (= ?duration 2)
@@ -376,7 +377,13 @@ mod tests {
   (:durative-action darken :parameters () :duration (= ?duration 1)
     :condition (at start (lamp)) :effect (and (at end (not (lamp))) (at end (dark-once))))
   (:durative-action beep :parameters () :duration (= ?duration 5)
-    :condition (at start (door-open)) :effect (at end (beacon))))";
+    :condition (at start (door-open)) :effect (at end (beacon)))
+  (:durative-action wait :parameters () :duration (= ?duration 5)
+    :condition (at start (door-open)) :effect (at end (ready)))
+  (:durative-action paint-red :parameters () :duration (= ?duration 2)
+    :condition (at start (ready)) :effect (and (at end (red)) (at end (done-red))))
+  (:durative-action paint-blue :parameters () :duration (= ?duration 2)
+    :condition (at start (ready)) :effect (and (at end (not (red))) (at end (done-blue)))))";
 
     /// Plans `steps` (operator name, start) for a problem with `init` and
     /// `goal`, passes them through [`Search::without_redundant_steps`], and
@@ -480,5 +487,35 @@ mod tests {
         assert_eq!(names(&val), ["launch", "light", "darken"], "{val}");
         assert!(valid, "{val}");
         assert!(val.contains("\n1.02: (darken)"), "{val}");
+    }
+
+    /// `wait` makes `ready` true, which holds from the start: it goes, and
+    /// `paint-blue`, which waited for it, moves to the start of the plan,
+    /// where it would end with `paint-red`. Both write `red` there (a
+    /// mutex, though no condition reads it): the earlier schedule keeps
+    /// their ends ε apart, and the plan stays valid.
+    #[test]
+    fn interfering_happenings_a_removal_brings_together_stay_apart() {
+        let (val, removed, valid) = pass(
+            "(door-open) (ready)",
+            "(done-red) (done-blue)",
+            &[("wait", 0.0), ("paint-red", 0.01), ("paint-blue", 5.01)],
+        );
+        assert_eq!(removed, 1, "{val}");
+        let mut got = names(&val);
+        got.sort();
+        assert_eq!(got, ["paint-blue", "paint-red"], "{val}");
+        assert!(valid, "{val}");
+        let ends: Vec<f64> = val
+            .lines()
+            .filter_map(|l| {
+                let (start, rest) = l.split_once(": ")?;
+                let d = rest.split('[').nth(1)?.trim_end_matches(']');
+                Some(start.parse::<f64>().ok()? + d.parse::<f64>().ok()?)
+            })
+            .collect();
+        assert_eq!(ends.len(), 2, "{val}");
+        assert!((ends[0] - ends[1]).abs() >= 0.01 - 1e-9, "{val}");
+        assert!(ends.iter().all(|&e| e < 5.0), "the wait is gone from the schedule: {val}");
     }
 }
