@@ -413,7 +413,10 @@ impl<'db> Prepared<'db> {
                 // plan of the search's own loses its redundant steps.
                 if seed.is_none() {
                     let started = std::time::Instant::now();
-                    let (q, removed) = search.without_redundant_steps(p);
+                    // Within what is left of the time limit.
+                    let left = limits.time.map(|t| t.saturating_sub(limits.time_spent + stats.elapsed));
+                    let stop = || cancel() || left.is_some_and(|l| started.elapsed() >= l);
+                    let (q, removed) = search.without_redundant_steps(p, &stop);
                     p = q;
                     stats.redundant_removed = removed.steps;
                     stats.redundant_time = started.elapsed();

@@ -60,8 +60,9 @@ pub struct Removed {
 
 impl Search<'_, '_> {
     /// The plan without its redundant steps (a plan with abstract steps is
-    /// returned as it is), and how many went.
-    pub fn without_redundant_steps(&self, p: Plan) -> (Plan, Removed) {
+    /// returned as it is), and how many went. `stop` is polled at every
+    /// step tried: when it says so, the steps found so far go, no more.
+    pub fn without_redundant_steps(&self, p: Plan, stop: &dyn Fn() -> bool) -> (Plan, Removed) {
         let mut removed = Removed::default();
         if self.task.htn.is_some() || p.steps.iter().any(|s| !self.elementary_or_fixed(s.kind)) {
             return (p, removed);
@@ -70,7 +71,10 @@ impl Search<'_, '_> {
         // Each round removes a step at least; a handful is plenty (the
         // rounds after the first only see what the new links show).
         for _ in 0..8 {
-            let gone = self.eliminate(&p);
+            if stop() {
+                break;
+            }
+            let gone = self.eliminate(&p, stop);
             let n = gone.iter().filter(|&&g| g).count();
             if n == 0 {
                 break;
@@ -97,7 +101,7 @@ impl Search<'_, '_> {
 
     /// The steps that can go, by action elimination over the plan's
     /// earliest schedule.
-    pub(super) fn eliminate(&self, p: &Plan) -> Vec<bool> {
+    pub(super) fn eliminate(&self, p: &Plan, stop: &dyn Fn() -> bool) -> Vec<bool> {
         let events = happenings(self, p);
         let n = p.steps.len();
         let mut gone = vec![false; n];
@@ -128,6 +132,9 @@ impl Search<'_, '_> {
         };
         let mut trial = gone.clone();
         for &s in &order {
+            if stop() {
+                break;
+            }
             if gone[s as usize] {
                 continue;
             }
@@ -390,6 +397,11 @@ mod tests {
     /// returns the plan left in VAL's format, how many steps went, and
     /// whether the validator finds it valid.
     fn pass(init: &str, goal: &str, steps: &[(&str, f64)]) -> (String, usize, bool) {
+        pass_until(init, goal, steps, false)
+    }
+
+    /// [`pass`], told to stop at once when `stop`.
+    fn pass_until(init: &str, goal: &str, steps: &[(&str, f64)], stop: bool) -> (String, usize, bool) {
         let problem = format!("(define (problem p) (:domain pass) (:init {init}) (:goal (and {goal})))");
         let mut host = AnalysisHost::new();
         host.set_file_text("domain.pddl", DOMAIN);
@@ -435,7 +447,7 @@ mod tests {
                 p.old_times = Default::default();
                 p.stn.flush();
                 assert!(search.select(&mut p).is_none(), "the plan given is complete");
-                let (p, removed) = search.without_redundant_steps(p);
+                let (p, removed) = search.without_redundant_steps(p, &|| stop);
                 (output::solved(db, task, &p).to_val(""), removed.steps)
             })
             .expect("not cancelled");
@@ -462,6 +474,19 @@ mod tests {
         assert!(valid, "{val}");
         // The schedule is the earliest without it.
         assert!(val.contains("\n0.01: (close)") || val.starts_with("0.01: (close)"), "{val}");
+    }
+
+    /// Out of time (or cancelled), the pass leaves the plan as it is.
+    #[test]
+    fn a_pass_told_to_stop_removes_nothing() {
+        let (val, removed, valid) = pass_until(
+            "(door-open)",
+            "(launched)",
+            &[("beep", 0.0), ("close", 0.01), ("launch", 1.02)],
+            true,
+        );
+        assert_eq!((removed, names(&val)), (0, vec!["beep", "close", "launch"]), "{val}");
+        assert!(valid, "{val}");
     }
 
     /// `close` makes nothing true: its only use is the negative condition
