@@ -402,3 +402,83 @@ fn satellite_corpus_plans_validate() {
         assert!(solved >= 5, "only {solved} of 6 {corpus} problems solved");
     }
 }
+
+/// The primitive steps of a plan that it could do without: the plan left
+/// when one is removed, with the steps whose every causal link served only
+/// removed steps, is still valid with the same times (the plan bench's
+/// count, issue 19's target: none).
+fn removable_steps(
+    host: &mut AnalysisHost,
+    problem: &Path,
+    plan: &hipop_analyzer::planner::output::SolvedPlan,
+) -> Vec<String> {
+    let n = plan.steps.len();
+    let mut producers: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut serves = vec![0usize; n];
+    for l in &plan.causal_links {
+        if let Some(from) = l.from {
+            serves[from] += 1;
+            if let Some(to) = l.to {
+                producers[to].push(from);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for s in plan.primitive().map(|st| st.id) {
+        let mut removed = vec![false; n];
+        let mut left = serves.clone();
+        let mut work = vec![s];
+        removed[s] = true;
+        while let Some(r) = work.pop() {
+            for &p in &producers[r] {
+                left[p] -= 1;
+                if left[p] == 0 && !removed[p] {
+                    removed[p] = true;
+                    work.push(p);
+                }
+            }
+        }
+        let mut rest = plan.clone();
+        rest.steps.retain(|st| !removed[st.id]);
+        if validate(host, problem, "rest.plan", &rest.to_val(""), 0.01).is_empty() {
+            out.push(format!("{} {}", plan.steps[s].name, plan.steps[s].args.join(" ")));
+        }
+    }
+    out
+}
+
+/// Satellite `time` problem 1: the search calibrated the instrument twice,
+/// side by side; the plan written calibrates it once, and none of its
+/// steps can go.
+#[test]
+fn plans_carry_no_redundant_step() {
+    let path = root().join("tests/planner/instrument-calibrated-once.pddl");
+    let plan = solve_fixture("instrument-calibrated-once.pddl");
+    let val = plan.to_val("t");
+    assert_eq!(plan.primitive().filter(|s| s.name == "calibrate").count(), 1, "{val}");
+    let mut host = AnalysisHost::new();
+    host.set_file_text(&path.display().to_string(), read(&path));
+    assert_eq!(removable_steps(&mut host, &path, &plan), Vec::<String>::new(), "{val}");
+}
+
+/// Satellite `time` problem 2 (from the corpus): the search switched the
+/// instruments on and off eleven times, one pair after the other, before
+/// the second instrument's calibration. The plan written switches each
+/// instrument on once and the first off once, and none of its steps can go.
+#[test]
+fn plans_switch_each_instrument_on_once() {
+    let Some(corpora) = corpora() else {
+        eprintln!("skipped: no corpora (set HIPOP_CORPORA)");
+        return;
+    };
+    let dir = corpora.join("ipc2002-temporal/satellite-time-automatic");
+    let (domain, problem) = (dir.join("domain.pddl"), dir.join("instances/instance-2.pddl"));
+    let (mut host, result) = plan(&domain, &problem, &Config::default(), &limits(60));
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &problem, &result);
+    let plan = result.plan.as_ref().expect("a plan");
+    let val = plan.to_val("t");
+    let switches = |name: &str| plan.primitive().filter(|s| s.name == name).count();
+    assert_eq!((switches("switch_on"), switches("switch_off")), (2, 1), "{val}");
+    assert_eq!(removable_steps(&mut host, &problem, plan), Vec::<String>::new(), "{val}");
+}

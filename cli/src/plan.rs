@@ -128,6 +128,13 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
             stats.methods,
             stats.peak_open
         );
+        if stats.redundant_removed > 0 {
+            eprintln!(
+                "redundant steps: {} removed in {:.3} s",
+                stats.redundant_removed,
+                stats.redundant_time.as_secs_f64()
+            );
+        }
     }
     match (&result.status, &result.plan) {
         (Status::Solved, Some(plan)) => {

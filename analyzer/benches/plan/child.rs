@@ -195,6 +195,8 @@ pub(crate) fn one(raw: &[String]) -> ExitCode {
         "peak_open": s.peak_open,
         "operators": s.operators,
         "methods": s.methods,
+        "removed": s.redundant_removed,
+        "removal": s.redundant_time.as_secs_f64(),
     });
     let first_diag = |code: &str| {
         result

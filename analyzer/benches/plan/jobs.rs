@@ -42,6 +42,10 @@ pub(crate) struct Run {
     pub(crate) rss_kb: Option<u64>,
     /// Primitive steps that can be removed, for a plan without abstract steps.
     pub(crate) redundant: Option<u64>,
+    /// Steps the planner removed as redundant before returning the plan,
+    /// and the seconds that took.
+    pub(crate) removed: u64,
+    pub(crate) removal: f64,
     /// The first flaw of the best partial plan when unsolved.
     pub(crate) flaw: Option<String>,
 }
@@ -102,6 +106,8 @@ pub(crate) fn parse_run(line: &str) -> Option<Run> {
         hier: check_of(&v["hier"]),
         rss_kb: v["rss_kb"].as_u64(),
         redundant: v["redundant"].as_u64(),
+        removed: v["removed"].as_u64().unwrap_or(0),
+        removal: v["removal"].as_f64().unwrap_or(0.0),
         flaw: v["flaw"].as_str().map(String::from),
     })
 }

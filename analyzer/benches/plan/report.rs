@@ -268,6 +268,20 @@ pub(crate) fn report(
             checked.len(),
         );
     }
+    // What the planner removed before returning its plans.
+    let solved: Vec<&Run> = runs.iter().filter(|r| r.solved()).collect();
+    if let Some(slowest) = solved.iter().max_by(|a, b| a.removal.total_cmp(&b.removal)) {
+        let _ = writeln!(
+            out,
+            "**Removed by the planner:** {} redundant step{} in {} of the {} plans; the removal took at most {:.4} s (a plan of {} steps).\n",
+            solved.iter().map(|r| r.removed).sum::<u64>(),
+            if solved.iter().map(|r| r.removed).sum::<u64>() == 1 { "" } else { "s" },
+            solved.iter().filter(|r| r.removed > 0).count(),
+            solved.len(),
+            slowest.removal,
+            slowest.length.unwrap_or(0),
+        );
+    }
     // The time limit is honoured when a run stopped by it ends soon after.
     let over: Vec<f64> = runs
         .iter()
@@ -381,7 +395,7 @@ pub(crate) fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() }
 }
 
-pub(crate) const CSV_HEAD: &str = "suite,domain,problem,config,status,detail,time_s,search_s,expanded,generated,nodes_per_s,operators,method_instances,makespan,length,abstract_steps,val_valid,hier_valid,validation_error,peak_rss_kb,best_plan_first_flaw,redundant_steps";
+pub(crate) const CSV_HEAD: &str = "suite,domain,problem,config,status,detail,time_s,search_s,expanded,generated,nodes_per_s,operators,method_instances,makespan,length,abstract_steps,val_valid,hier_valid,validation_error,peak_rss_kb,best_plan_first_flaw,redundant_steps,removed_steps,removal_s";
 
 pub(crate) fn csv_line(j: &Job, r: &Run) -> String {
     let opt = |x: Option<String>| x.unwrap_or_default();
@@ -410,6 +424,8 @@ pub(crate) fn csv_line(j: &Job, r: &Run) -> String {
         opt(r.rss_kb.map(|k| k.to_string())),
         opt(r.flaw.clone()),
         opt(r.redundant.map(|k| k.to_string())),
+        r.removed.to_string(),
+        format!("{:.4}", r.removal),
     ]
     .iter()
     .map(|f| csv_field(f))

@@ -263,6 +263,10 @@ pub struct Stats {
     /// Method instances not tried because they repeat a task below itself
     /// (set when the search space is exhausted).
     pub loops_skipped: u64,
+    /// Steps of the plan found that it could do without, removed before it
+    /// was returned, and the time that took.
+    pub redundant_removed: usize,
+    pub redundant_time: Duration,
 }
 
 /// How planning ended.
@@ -403,7 +407,20 @@ impl<'db> Prepared<'db> {
         let mut best = None;
         let end = search.run(roots, limits, cancel, progress, &mut stats, &mut best);
         match end {
-            search::End2::Solved(mut p) => {
+            search::End2::Solved(p) => {
+                let mut p = *p;
+                // A repair keeps the old steps it started from: only a
+                // plan of the search's own loses its redundant steps.
+                if seed.is_none() {
+                    let started = std::time::Instant::now();
+                    // Within what is left of the time limit.
+                    let left = limits.time.map(|t| t.saturating_sub(limits.time_spent + stats.elapsed));
+                    let stop = || cancel() || left.is_some_and(|l| started.elapsed() >= l);
+                    let (q, removed) = search.without_redundant_steps(p, &stop);
+                    p = q;
+                    stats.redundant_removed = removed.steps;
+                    stats.redundant_time = started.elapsed();
+                }
                 p.keep_old_times();
                 let plan = output::solved(db, task, &p);
                 Outcome { status: Status::Solved, plan: Some(plan), stats, lints: Vec::new() }

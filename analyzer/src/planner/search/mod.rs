@@ -13,9 +13,11 @@
 
 mod cost;
 mod flaws;
+mod redundant;
 mod resolvers;
 mod seed;
 
+pub use redundant::Removed;
 pub use seed::{Seed, SeedError, SeedOrder, SeedStep, Seeded};
 
 use std::cmp::Ordering;
