@@ -207,9 +207,15 @@ struct PlanArgs {
     /// Stop when the process holds more than this many mebibytes of heap.
     #[arg(long, value_name = "MIB", default_value_t = 4096)]
     memory_limit: usize,
-    /// Print progress (plans expanded, open list, best f) about every 100 ms.
+    /// Print progress (plans expanded, open list, best f) about every 100 ms,
+    /// and each better plan as it is found.
     #[arg(long)]
     progress: bool,
+    /// Return the first plan found. By default the search goes on within the
+    /// time limit for plans of smaller makespan, until none left in the open
+    /// list can do better, and writes the best.
+    #[arg(long)]
+    first: bool,
     /// Do not print the summary line.
     #[arg(short, long)]
     quiet: bool,
@@ -513,6 +519,7 @@ fn main() -> ExitCode {
                     memory_in_use: Some(hipop_analyzer::alloc::in_use),
                     // The process exits once the plan is written.
                     exits_after: true,
+                    first: args.first,
                     ..Default::default()
                 },
                 color: args.color,

@@ -103,6 +103,9 @@ pub(crate) fn validate_into(
 
 /// The limits of a child's search: the time limit the parent gives (its
 /// text, checked by the parent), and the memory the process holds.
+/// The suffix of a configuration run without `first` (`hipop plan`'s default).
+pub(crate) const ANYTIME: &str = "+anytime";
+
 pub(crate) fn child_limits(limit: &str) -> PlannerLimits {
     let limit: f64 = limit.parse().expect("the parent checked the limit");
     PlannerLimits {
@@ -174,8 +177,10 @@ pub(crate) fn one(raw: &[String]) -> ExitCode {
         eprintln!("--one DOMAIN PROBLEM CONFIG TIME_LIMIT PLAN_PREFIX");
         return ExitCode::from(2);
     };
-    let config = Config::parse(config).expect("the parent checked the configuration");
-    let limits = child_limits(limit);
+    let anytime = config.ends_with(ANYTIME);
+    let config = Config::parse(config.strip_suffix(ANYTIME).unwrap_or(config))
+        .expect("the parent checked the configuration");
+    let limits = PlannerLimits { first: !anytime, ..child_limits(limit) };
     let mut host = AnalysisHost::new();
     host.set_file_text(domain, read(domain));
     let pf = host.set_file_text(problem, read(problem));
