@@ -209,9 +209,9 @@ pub struct PlannerLimits {
     /// the best plan found as a bound, and returns the best; it ends early
     /// when no plan left in the open list can do better by its `f`.
     pub first: bool,
-    /// Only plans that cost less than this are returned (a plan of this cost
-    /// is known): partial plans whose `g` reaches it are dropped.
-    pub cost_below: Option<f64>,
+    /// Only plans better than this are returned (a plan this good is
+    /// known): partial plans whose schedule is already as long are dropped.
+    pub better_than: Option<Quality>,
 }
 
 impl Default for PlannerLimits {
@@ -225,7 +225,7 @@ impl Default for PlannerLimits {
             time_spent: Duration::ZERO,
             exits_after: false,
             first: true,
-            cost_below: None,
+            better_than: None,
         }
     }
 }
@@ -286,8 +286,33 @@ pub struct Stats {
     /// The limit that ended a search that went on after its first plan;
     /// `None` when it ended because no plan left could do better.
     pub stopped_by: Option<LimitKind>,
-    /// The cost (`g`) of the plan returned.
-    pub best_cost: Option<f64>,
+    /// How good the plan returned is.
+    pub best: Option<Quality>,
+}
+
+/// How good a plan is: its makespan, then its cost (`g`: the makespan or
+/// the busiest agent's work when larger, and a small cost per step).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quality {
+    pub makespan: f64,
+    pub cost: f64,
+}
+
+impl Quality {
+    /// Makespans closer than this are the same.
+    const SAME: f64 = 1e-6;
+
+    /// A shorter makespan, or the same at a lower cost (fewer steps).
+    pub fn better_than(self, other: Quality) -> bool {
+        self.makespan < other.makespan - Self::SAME
+            || (self.makespan <= other.makespan + Self::SAME && self.cost < other.cost)
+    }
+
+    /// Whether a partial plan whose schedule is already `makespan` long
+    /// (a lower bound of its completions') can still lead to a better plan.
+    pub fn admits(self, makespan: f64) -> bool {
+        makespan < self.makespan - Self::SAME
+    }
 }
 
 /// How planning ended.
@@ -435,7 +460,7 @@ impl<'db> Prepared<'db> {
             progress(&Progress {
                 expanded: stats.expanded,
                 open: 0,
-                best_f: stats.best_cost.unwrap_or(plan.makespan),
+                best_f: stats.best.map_or(plan.makespan, |q| q.cost),
                 elapsed: limits.time_spent + started.elapsed(),
                 makespan: Some(plan.makespan),
                 improved: true,
@@ -461,14 +486,14 @@ impl<'db> Prepared<'db> {
                 time: half,
                 time_spent: spent(Duration::ZERO),
                 first: true,
-                cost_below: stats.best_cost,
+                better_than: stats.best,
                 ..limits.clone()
             };
             let other = Prepared { task, h };
             let run = other.search(db, &bare_config, &bare_limits, None, cancel, &mut |_| {});
             merge(&mut stats, &run.stats);
             if run.status == Status::Solved && run.plan.is_some() {
-                stats.best_cost = run.stats.best_cost;
+                stats.best = run.stats.best;
                 stats.plans_found += 1;
                 if let Some(plan) = &run.plan {
                     report(plan, &stats, progress);
@@ -480,14 +505,14 @@ impl<'db> Prepared<'db> {
         let bounded = PlannerLimits {
             time_spent: spent(Duration::ZERO),
             first: false,
-            cost_below: stats.best_cost,
+            better_than: stats.best,
             ..limits.clone()
         };
         let run = self.search(db, config, &bounded, None, cancel, progress);
         merge(&mut stats, &run.stats);
         match (run.status, run.plan) {
             (Status::Solved, Some(plan)) => {
-                stats.best_cost = run.stats.best_cost;
+                stats.best = run.stats.best;
                 stats.plans_found += run.stats.plans_found;
                 stats.stopped_by = run.stats.stopped_by;
                 best.plan = Some(plan);

@@ -27,7 +27,7 @@ use super::itinerary::{Geo, Pending};
 use super::plan::Plan;
 use super::stn::Tp;
 use super::task::Task;
-use super::{Config, LimitKind, Motion, PlannerLimits, Progress, Stats};
+use super::{Config, LimitKind, Motion, PlannerLimits, Progress, Quality, Stats};
 
 /// What a unit of work costs in `g` beyond the makespan: every step costs
 /// something, so that no chain of steps is free (a step that fits in
@@ -68,9 +68,9 @@ impl Drop for Open {
 
 struct Node {
     f: f64,
-    /// The makespan part of `g`: what no completion of the plan can
-    /// shorten (the bound of a search that goes on after a plan).
-    g: f64,
+    /// The makespan of its earliest schedule, which no completion of the
+    /// plan shortens: the bound of a search that goes on after a plan.
+    span: f64,
     /// Its lineage had a greedy completion already.
     probed: bool,
     effort: f64,
@@ -149,12 +149,14 @@ impl<'a, 'db> Search<'a, 'db> {
     /// `g`, `h` and the effort of a plan about to enter the open list,
     /// after its threats with one ordering left are solved; `None` when a
     /// threat has none (the plan is dead).
-    fn score(&self, plan: &mut Plan) -> Option<(f64, f64, f64)> {
+    /// Also the makespan of its earliest schedule, which no completion of
+    /// the plan shortens (steps and orderings are only added).
+    fn score(&self, plan: &mut Plan) -> Option<(f64, f64, f64, f64)> {
         let penalty = self.settle(plan)?;
         let (h, effort) = self.estimate(plan);
         let (busiest, total) = self.work(plan);
-        let g = plan.makespan().max(busiest) + penalty + STEP_COST * total;
-        Some((g, h, effort))
+        let span = plan.makespan();
+        Some((span.max(busiest) + penalty + STEP_COST * total, h, effort, span))
     }
 
     /// Whether a flaw belongs to the completion of a plan: what is left
@@ -174,7 +176,7 @@ impl<'a, 'db> Search<'a, 'db> {
         for mut c in children {
             let added = if linking { c.steps.len() - p.steps.len() } else { 0 };
             match self.score(&mut c) {
-                Some((g, h, effort)) => out.push(Scored { f: g + h, g, effort, added, plan: c }),
+                Some((g, h, effort, span)) => out.push(Scored { f: g + h, span, effort, added, plan: c }),
                 None => dead(&c),
             }
         }
@@ -189,7 +191,7 @@ impl<'a, 'db> Search<'a, 'db> {
         &self,
         first: Vec<Plan>,
         budget: u64,
-        bound: f64,
+        admits: &dyn Fn(f64) -> bool,
         stats: &mut Stats,
         deadline: &dyn Fn() -> bool,
     ) -> Option<Plan> {
@@ -215,7 +217,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 return Some(p);
             };
             let mut scored = self.expand(&p, flaw, stats, &mut |_| {});
-            scored.retain(|c| c.g < bound);
+            scored.retain(|c| admits(c.span));
             scored.sort_by(Scored::probe_order);
             stack.push(scored.into_iter().map(|x| x.plan).collect::<Vec<_>>().into_iter());
         }
@@ -259,11 +261,11 @@ impl<'a, 'db> Search<'a, 'db> {
         let probing = self.config.lookahead;
         for mut root in roots {
             match self.score(&mut root) {
-                Some((g, h, effort)) => {
+                Some((g, h, effort, span)) => {
                     id += 1;
                     stats.generated += 1;
                     let size = root.steps.len();
-                    heap.push(Node { f: g + h, g, effort, size, id, probed: false, plan: root });
+                    heap.push(Node { f: g + h, span, effort, size, id, probed: false, plan: root });
                 }
                 None => keep_best(&root, best, &mut best_effort),
             }
@@ -272,24 +274,25 @@ impl<'a, 'db> Search<'a, 'db> {
             |elapsed: std::time::Duration| limits.time.is_some_and(|t| elapsed + limits.time_spent >= t);
         let time_up = || out_of_time(started.elapsed()) || cancel();
         let mut last_report = Instant::now();
+        let mut last_in_use = limits.memory_in_use.map_or(0, |f| f());
         let mut next_milestone: u64 = 1024;
         // The best plan found and its cost, when the search goes on.
-        let mut incumbent: Option<(Plan, f64)> = None;
+        let mut incumbent: Option<(Plan, Quality)> = None;
         // A plan found: returned when it is the first and `first` is set;
         // else kept when better than the best, and `None` asks to go on.
         let found = |plan: Plan,
                      stats: &mut Stats,
-                     incumbent: &mut Option<(Plan, f64)>,
+                     incumbent: &mut Option<(Plan, Quality)>,
                      open: usize,
                      progress: &mut dyn FnMut(&Progress)|
          -> Option<End2> {
             let elapsed = started.elapsed();
-            let cost = self.solution_cost(&plan);
-            let bound = incumbent.as_ref().map_or(limits.cost_below.unwrap_or(f64::INFINITY), |(_, c)| *c);
-            if cost >= bound {
+            let quality = Quality { makespan: plan.makespan(), cost: self.solution_cost(&plan) };
+            let known = incumbent.as_ref().map(|(_, q)| *q).or(limits.better_than);
+            if known.is_some_and(|k| !quality.better_than(k)) {
                 return None;
             }
-            stats.best_cost = Some(cost);
+            stats.best = Some(quality);
             if limits.first {
                 stats.elapsed = elapsed;
                 stats.first_found = Some(elapsed);
@@ -301,28 +304,29 @@ impl<'a, 'db> Search<'a, 'db> {
             progress(&Progress {
                 expanded: stats.expanded,
                 open,
-                best_f: cost,
+                best_f: quality.cost,
                 elapsed: limits.time_spent + elapsed,
-                makespan: Some(plan.makespan()),
+                makespan: Some(quality.makespan),
                 improved: true,
             });
-            *incumbent = Some((plan, cost));
+            *incumbent = Some((plan, quality));
             None
         };
         // How a search that goes on ends: with its best plan, if any.
-        let settle_end = |end: End2, incumbent: Option<(Plan, f64)>, stats: &mut Stats| match (end, incumbent)
-        {
-            (End2::Limit(kind), Some((plan, _))) if kind != LimitKind::Cancelled => {
-                stats.stopped_by = Some(kind);
-                End2::Solved(Box::new(plan))
-            }
-            (End2::Exhausted, Some((plan, _))) => End2::Solved(Box::new(plan)),
-            (end, _) => end,
-        };
+        let settle_end =
+            |end: End2, incumbent: Option<(Plan, Quality)>, stats: &mut Stats| match (end, incumbent) {
+                (End2::Limit(kind), Some((plan, _))) if kind != LimitKind::Cancelled => {
+                    stats.stopped_by = Some(kind);
+                    End2::Solved(Box::new(plan))
+                }
+                (End2::Exhausted, Some((plan, _))) => End2::Solved(Box::new(plan)),
+                (end, _) => end,
+            };
         let end = loop {
             let Some(node) = heap.pop() else { break End2::Exhausted };
-            let bound = incumbent.as_ref().map_or(limits.cost_below.unwrap_or(f64::INFINITY), |(_, c)| *c);
-            if node.g >= bound {
+            let known = incumbent.as_ref().map(|(_, q)| *q).or(limits.better_than);
+            let admits = |makespan: f64| known.is_none_or(|k| k.admits(makespan));
+            if !admits(node.span) {
                 // Found since it entered the open list: cannot do better.
                 continue;
             }
@@ -362,9 +366,17 @@ impl<'a, 'db> Search<'a, 'db> {
                 break End2::Limit(LimitKind::Nodes);
             }
             let over = match (limits.memory, limits.memory_in_use) {
-                // Measured: often enough (a plan is a few kilobytes to a few
-                // hundred; 32 expansions cannot overshoot by much).
-                (Some(m), Some(in_use)) => stats.expanded.is_multiple_of(32) && in_use() > m,
+                // Measured every 32 expansions (a plan is a few kilobytes to
+                // a few hundred), and the search stops when the next 32,
+                // growing the memory as much as the last 32 did, would go
+                // over: it ends under the limit, not a few megabytes past it.
+                (Some(m), Some(in_use)) if stats.expanded.is_multiple_of(32) => {
+                    let now = in_use();
+                    let next = now.saturating_add(now.saturating_sub(last_in_use));
+                    last_in_use = now;
+                    next > m
+                }
+                (Some(_), Some(_)) => false,
                 (Some(m), None) => heap.len().saturating_mul(approx_plan_bytes(&plan)) > m,
                 (None, _) => false,
             };
@@ -381,7 +393,7 @@ impl<'a, 'db> Search<'a, 'db> {
             };
             let completes = Self::completes(&flaw);
             let mut scored = self.expand(&plan, flaw, stats, &mut |c| keep_best(c, best, &mut best_effort));
-            scored.retain(|c| c.g < bound);
+            scored.retain(|c| admits(c.span));
             // A plan entering its completion: first a greedy descent from
             // its children. And when A* has spent 1024, 2048, 4096…
             // expansions, the plan it is at gets one too, whatever is left.
@@ -404,7 +416,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 let mut first: Vec<&Scored> = scored.iter().collect();
                 first.sort_by(|a, b| Scored::probe_order(a, b));
                 let first = first.into_iter().map(|s| s.plan.clone()).collect();
-                if let Some(plan) = self.probe(first, budget, bound, stats, &time_up)
+                if let Some(plan) = self.probe(first, budget, &admits, stats, &time_up)
                     && let Some(end) = found(plan, stats, &mut incumbent, heap.len(), progress)
                 {
                     return end;
@@ -413,7 +425,7 @@ impl<'a, 'db> Search<'a, 'db> {
             for c in scored {
                 id += 1;
                 let size = c.plan.steps.len();
-                heap.push(Node { f: c.f, g: c.g, effort: c.effort, size, id, probed, plan: c.plan });
+                heap.push(Node { f: c.f, span: c.span, effort: c.effort, size, id, probed, plan: c.plan });
             }
         };
         stats.elapsed = started.elapsed();
@@ -427,7 +439,7 @@ impl<'a, 'db> Search<'a, 'db> {
 /// A child plan with its score.
 struct Scored {
     f: f64,
-    g: f64,
+    span: f64,
     effort: f64,
     /// Steps it added for an open link.
     added: usize,
