@@ -5,6 +5,7 @@ mod check;
 mod diff;
 mod fmt;
 mod inputs;
+mod memory;
 mod plan;
 mod render;
 mod repair;
@@ -204,12 +205,19 @@ struct PlanArgs {
     /// Stop after expanding this many partial plans.
     #[arg(long, value_name = "N")]
     node_limit: Option<u64>,
-    /// Stop when the process holds more than this many mebibytes of heap.
+    /// Stop when the process holds more than this many mebibytes (its heap
+    /// or its resident set, whichever is larger).
     #[arg(long, value_name = "MIB", default_value_t = 4096)]
     memory_limit: usize,
-    /// Print progress (plans expanded, open list, best f) about every 100 ms.
+    /// Print progress (plans expanded, open list, best f) about every 100 ms,
+    /// and each better plan as it is found.
     #[arg(long)]
     progress: bool,
+    /// Return the first plan found. By default the search goes on within the
+    /// time limit for plans of smaller makespan, until none left in the open
+    /// list can do better, and writes the best.
+    #[arg(long)]
+    first: bool,
     /// Do not print the summary line.
     #[arg(short, long)]
     quiet: bool,
@@ -510,9 +518,10 @@ fn main() -> ExitCode {
                     time: Some(args.time_limit),
                     nodes: args.node_limit,
                     memory: Some(args.memory_limit.saturating_mul(1 << 20)),
-                    memory_in_use: Some(hipop_analyzer::alloc::in_use),
+                    memory_in_use: Some(memory::in_use),
                     // The process exits once the plan is written.
                     exits_after: true,
+                    first: args.first,
                     ..Default::default()
                 },
                 color: args.color,
@@ -530,7 +539,7 @@ fn main() -> ExitCode {
                 config: args.config,
                 limits: hipop_analyzer::planner::PlannerLimits {
                     time: Some(args.time_limit),
-                    memory_in_use: Some(hipop_analyzer::alloc::in_use),
+                    memory_in_use: Some(memory::in_use),
                     ..Default::default()
                 },
                 repair: hipop_analyzer::repair::RepairOptions {

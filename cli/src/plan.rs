@@ -90,8 +90,19 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
         return 2;
     }
     let show_progress = options.progress;
+    let mut last_makespan = None;
     let mut progress = |p: &hipop_analyzer::planner::Progress| {
-        if show_progress {
+        if show_progress && p.improved {
+            let makespan = p.makespan.unwrap_or(p.best_f);
+            // Same makespan, lower cost: fewer steps (or less work).
+            let how = if last_makespan == Some(makespan) { ", fewer steps" } else { "" };
+            last_makespan = Some(makespan);
+            eprintln!(
+                "  {:>8.1} s: plan with makespan {makespan:.3}{how} ({} plans expanded)",
+                p.elapsed.as_secs_f64(),
+                p.expanded
+            );
+        } else if show_progress {
             eprintln!(
                 "  {:>8.1} s: {} plans expanded, {} open, best f {:.2}",
                 p.elapsed.as_secs_f64(),
@@ -111,12 +122,26 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
     };
     let stats = &result.stats;
     let plural = |n: u64| if n == 1 { "" } else { "s" };
-    let search = format!(
+    let mut search = format!(
         "{} plan{} expanded, configuration {}",
         stats.expanded,
         plural(stats.expanded),
         options.config.name()
     );
+    if !options.limits.first
+        && let Some(first) = stats.first_found
+    {
+        let n = stats.plans_found;
+        let end = match stats.stopped_by {
+            Some(kind) => format!("stopped by the {} limit", kind.as_str()),
+            None => "no better plan left".to_string(),
+        };
+        search.push_str(&format!(
+            "; best of {n} plan{} found (first at {:.2} s), {end}",
+            plural(n.into()),
+            first.as_secs_f64()
+        ));
+    }
     if options.stats {
         eprintln!(
             "search: {} plans expanded, {} generated in {:.3} s ({:.0} plans/s); {} ground operators, {} method instances; open list peak {}",

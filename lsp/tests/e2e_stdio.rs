@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{Client, at, file_uri, fixture, range};
+use common::{Client, Scratch, at, file_uri, fixture, range};
 use serde_json::{Value, json};
 
 fn read(rel: &str) -> (String, String) {
@@ -572,14 +572,8 @@ fn missing_sections_are_made_by_code_actions() {
 }
 
 /// A copy of the `blocks` fixture in a fresh folder, to change on disk.
-fn scratch_copy(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("hipop-lsp-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch folder");
-    for file in ["domain.pddl", "problem.pddl"] {
-        std::fs::copy(fixture("blocks").join(file), dir.join(file)).expect("copying a fixture");
-    }
-    dir
+fn scratch_copy(name: &str) -> Scratch {
+    Scratch::with_fixture(&format!("lsp-{name}"), "blocks", &["domain.pddl", "problem.pddl"])
 }
 
 /// A domain changed or deleted on disk, reported by the client's file watcher,
@@ -615,7 +609,6 @@ fn watched_files_are_reread() {
     // The client watches: the server does not watch too.
     assert!(!client.log.iter().any(|m| log_says(m, "for changes on disk")), "{:#?}", client.log);
     client.shutdown();
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 fn log_says(message: &Value, text: &str) -> bool {
@@ -666,7 +659,6 @@ fn files_changed_on_disk_are_reread_without_a_client_watcher() {
             .expect("writing");
         assert_eq!(codes(&client.diagnostics(&problem_uri, Some(1))), ["E0102"], "{name}");
         client.shutdown();
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }
 
@@ -674,8 +666,7 @@ fn files_changed_on_disk_are_reread_without_a_client_watcher() {
 /// The problem is an unsaved buffer whose URI is not a file.
 #[test]
 fn workspace_folders_come_and_go() {
-    let empty = std::env::temp_dir().join(format!("hipop-lsp-empty-{}", std::process::id()));
-    std::fs::create_dir_all(&empty).expect("empty folder");
+    let empty = Scratch::new("lsp-empty");
     let mut client = Client::spawn();
     client.initialize(&empty, json!({}));
     let uri = "untitled:Untitled-1";
@@ -691,7 +682,6 @@ fn workspace_folders_come_and_go() {
     client.notify("workspace/didChangeWorkspaceFolders", json!({"event": {"added": [], "removed": folder}}));
     assert_eq!(codes(&client.diagnostics(uri, Some(1))), ["E0114"]);
     client.shutdown();
-    let _ = std::fs::remove_dir_all(&empty);
 }
 
 /// Changes interleaved with requests on a large file: every request is

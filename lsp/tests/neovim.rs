@@ -29,12 +29,7 @@ fn neovim_with_the_shipped_config() {
     };
     eprintln!("running {version}");
     // A problem and its domain in a folder of their own, to change on disk.
-    let scratch = std::env::temp_dir().join(format!("hipop-nvim-blocks-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&scratch);
-    std::fs::create_dir_all(&scratch).expect("scratch folder");
-    for file in ["domain.pddl", "problem.pddl"] {
-        std::fs::copy(fixture("blocks").join(file), scratch.join(file)).expect("copying a fixture");
-    }
+    let scratch = common::Scratch::with_fixture("nvim-blocks", "blocks", &["domain.pddl", "problem.pddl"]);
     let (report, status) = run_nvim(
         "diagnostics.lua",
         &[
@@ -47,7 +42,6 @@ fn neovim_with_the_shipped_config() {
             ("HIPOP_DOMAIN", scratch.join("domain.pddl")),
         ],
     );
-    let _ = std::fs::remove_dir_all(&scratch);
     let lines: Vec<&str> = report.lines().filter(|l| !l.starts_with("hover")).collect();
     let scratch_name = scratch.file_name().and_then(|n| n.to_str()).expect("a folder name");
     assert_eq!(
@@ -124,12 +118,8 @@ fn neovim_plans_on_save_completes_renames_and_formats() {
         return;
     };
     eprintln!("running {version}");
-    let scratch = std::env::temp_dir().join(format!("hipop-nvim-planning-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&scratch);
-    std::fs::create_dir_all(&scratch).expect("scratch folder");
-    for file in ["domain.pddl", "problem.pddl"] {
-        std::fs::copy(fixture("planning").join(file), scratch.join(file)).expect("copying a fixture");
-    }
+    let scratch =
+        common::Scratch::with_fixture("nvim-planning", "planning", &["domain.pddl", "problem.pddl"]);
     let sample = scratch.join("surveillance");
     std::fs::create_dir_all(&sample).expect("scratch folder");
     for file in ["domain.pddl", "problem.pddl"] {
@@ -143,7 +133,6 @@ fn neovim_plans_on_save_completes_renames_and_formats() {
             ("HIPOP_SURVEILLANCE", sample.join("problem.pddl")),
         ],
     );
-    let _ = std::fs::remove_dir_all(&scratch);
     let lines: Vec<&str> = report.lines().collect();
     assert_eq!(
         lines,

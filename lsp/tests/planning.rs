@@ -4,20 +4,13 @@
 
 mod common;
 
-use std::path::PathBuf;
-
 use common::*;
 use serde_json::{Value, json};
 
 /// A copy of the `planning` fixture in a fresh folder (plans are written beside it).
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hipop-planning-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch folder");
-    for file in ["domain.pddl", "problem.pddl", "unreachable.pddl"] {
-        std::fs::copy(fixture("planning").join(file), dir.join(file)).expect("copying a fixture");
-    }
-    dir
+fn scratch(name: &str) -> Scratch {
+    let name = format!("planning-{name}");
+    Scratch::with_fixture(&name, "planning", &["domain.pddl", "problem.pddl", "unreachable.pddl"])
 }
 
 /// What a client that shows progress and refreshes inlay hints declares.

@@ -13,13 +13,25 @@ use super::*;
 
 /// Peak resident memory of this process, in KiB.
 pub(crate) fn vm_hwm(pid: Option<u32>) -> Option<u64> {
+    vm_status(pid, "VmHWM:")
+}
+
+/// A memory line of a process's status (`VmHWM:`, `VmRSS:`), in KiB.
+fn vm_status(pid: Option<u32>, field: &str) -> Option<u64> {
     let path = match pid {
         Some(p) => format!("/proc/{p}/status"),
         None => "/proc/self/status".to_string(),
     };
     let status = std::fs::read_to_string(path).ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let line = status.lines().find(|l| l.starts_with(field))?;
     line.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// What the memory limit counts, as `hipop plan` does: the larger of the
+/// heap and the resident set.
+fn memory_in_use() -> usize {
+    let rss = vm_status(None, "VmRSS:").map_or(0, |k| k.saturating_mul(1024) as usize);
+    hipop_analyzer::alloc::in_use().max(rss)
 }
 
 /// The first error of a validation, located in the plan when it is there.
@@ -103,11 +115,14 @@ pub(crate) fn validate_into(
 
 /// The limits of a child's search: the time limit the parent gives (its
 /// text, checked by the parent), and the memory the process holds.
+/// The suffix of a configuration run without `first` (`hipop plan`'s default).
+pub(crate) const ANYTIME: &str = "+anytime";
+
 pub(crate) fn child_limits(limit: &str) -> PlannerLimits {
     let limit: f64 = limit.parse().expect("the parent checked the limit");
     PlannerLimits {
         time: Some(Duration::from_secs_f64(limit)),
-        memory_in_use: Some(hipop_analyzer::alloc::in_use),
+        memory_in_use: Some(memory_in_use),
         // As `hipop plan`: the child exits once it has reported.
         exits_after: true,
         ..PlannerLimits::default()
@@ -174,8 +189,10 @@ pub(crate) fn one(raw: &[String]) -> ExitCode {
         eprintln!("--one DOMAIN PROBLEM CONFIG TIME_LIMIT PLAN_PREFIX");
         return ExitCode::from(2);
     };
-    let config = Config::parse(config).expect("the parent checked the configuration");
-    let limits = child_limits(limit);
+    let anytime = config.ends_with(ANYTIME);
+    let config = Config::parse(config.strip_suffix(ANYTIME).unwrap_or(config))
+        .expect("the parent checked the configuration");
+    let limits = PlannerLimits { first: !anytime, ..child_limits(limit) };
     let mut host = AnalysisHost::new();
     host.set_file_text(domain, read(domain));
     let pf = host.set_file_text(problem, read(problem));

@@ -68,7 +68,10 @@ SUITES: survivors satellite satellite-time satellite-abstract surveillance hddl 
 
 OPTIONS:
     --configs A,B       configurations (default: Config::MAIN; the default one for hddl;
-                        survivors-repair: one, the default configuration by default)
+                        survivors-repair: one, the default configuration by default);
+                        NAME+anytime: the search goes on after its first plan until the
+                        time limit and the best plan is kept (`hipop plan` without
+                        --first); the others stop at the first plan
     --time-limit S      search time limit per problem, seconds (default 60; per run, 10
                         for survivors-repair)
     --jobs N            problems planned at once, each in its own process (default 1)
@@ -167,7 +170,7 @@ pub(crate) fn parse_args(raw: &[String]) -> Result<Args, String> {
                 let v = value("--configs")?;
                 let names: Vec<String> = v.split(',').filter(|s| !s.is_empty()).map(String::from).collect();
                 for n in &names {
-                    Config::parse(n)?;
+                    Config::parse(n.strip_suffix(ANYTIME).unwrap_or(n))?;
                 }
                 a.configs = Some(names);
             }

@@ -204,6 +204,14 @@ pub struct PlannerLimits {
     /// plans one by one takes seconds (1.1 s for 234,000 plans, 2.3 GB),
     /// past the time limit; the exit returns the memory at once.
     pub exits_after: bool,
+    /// Return the first plan found. Without it the search goes on within
+    /// the limits for plans of smaller cost (makespan, then steps), with
+    /// the best plan found as a bound, and returns the best; it ends early
+    /// when no plan left in the open list can do better by its `f`.
+    pub first: bool,
+    /// Only plans better than this are returned (a plan this good is
+    /// known): partial plans whose schedule is already as long are dropped.
+    pub better_than: Option<Quality>,
 }
 
 impl Default for PlannerLimits {
@@ -216,6 +224,8 @@ impl Default for PlannerLimits {
             method_instances: 1_000_000,
             time_spent: Duration::ZERO,
             exits_after: false,
+            first: true,
+            better_than: None,
         }
     }
 }
@@ -247,6 +257,12 @@ pub struct Progress {
     pub open: usize,
     pub best_f: f64,
     pub elapsed: Duration,
+    /// The makespan of the best plan found so far, when searching on
+    /// after the first ([`PlannerLimits::first`] off).
+    pub makespan: Option<f64>,
+    /// This report is for a better plan just found (sent at once, not on
+    /// the 100 ms clock).
+    pub improved: bool,
 }
 
 /// What the search did.
@@ -267,6 +283,40 @@ pub struct Stats {
     /// was returned, and the time that took.
     pub redundant_removed: usize,
     pub redundant_time: Duration,
+    /// When the first plan was found (from the start of the search).
+    pub first_found: Option<Duration>,
+    /// Plans found, the first included, each better than the one before.
+    pub plans_found: u32,
+    /// The limit that ended a search that went on after its first plan;
+    /// `None` when it ended because no plan left could do better.
+    pub stopped_by: Option<LimitKind>,
+    /// How good the plan returned is.
+    pub best: Option<Quality>,
+}
+
+/// How good a plan is: its makespan, then its cost (`g`: the makespan or
+/// the busiest agent's work when larger, and a small cost per step).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quality {
+    pub makespan: f64,
+    pub cost: f64,
+}
+
+impl Quality {
+    /// Makespans closer than this are the same.
+    const SAME: f64 = 1e-6;
+
+    /// A shorter makespan, or the same at a lower cost (fewer steps).
+    pub fn better_than(self, other: Quality) -> bool {
+        self.makespan < other.makespan - Self::SAME
+            || (self.makespan <= other.makespan + Self::SAME && self.cost < other.cost)
+    }
+
+    /// Whether a partial plan whose schedule is already `makespan` long
+    /// (a lower bound of its completions') can still lead to a better plan.
+    pub fn admits(self, makespan: f64) -> bool {
+        makespan < self.makespan - Self::SAME
+    }
 }
 
 /// How planning ended.
@@ -308,7 +358,11 @@ pub fn plan<'db>(
             // The time limit is the run's, grounding included.
             let limits =
                 PlannerLimits { time_spent: limits.time_spent + started.elapsed(), ..limits.clone() };
-            prepared.search(db, config, &limits, None, cancel, progress)
+            if limits.first || config.bare || prepared.task.htn.is_some() {
+                prepared.search(db, config, &limits, None, cancel, progress)
+            } else {
+                prepared.improve(db, config, &limits, cancel, progress)
+            }
         }
         Err(outcome) => *outcome,
     }
@@ -382,6 +436,108 @@ pub fn prepare<'db>(
 }
 
 impl<'db> Prepared<'db> {
+    /// Anytime planning of a problem whose abstract actions are optional
+    /// (no `:htn` task network): the first plan of the configured search;
+    /// then, with its cost as a bound, the first plan of the search without
+    /// abstract actions (`bare`, at most half the time left: plans of
+    /// elementary actions alone are often shorter, a patrol keeps its order
+    /// of visits); then the configured search again, branch and bound on
+    /// the best cost, until the time limit or no partial plan can do
+    /// better. Returns the best plan.
+    fn improve(
+        &self,
+        db: &'db dyn Db,
+        config: &Config,
+        limits: &PlannerLimits,
+        cancel: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Outcome<'db> {
+        let started = std::time::Instant::now();
+        let spent = |extra: Duration| limits.time_spent + started.elapsed() + extra;
+        let first = PlannerLimits { first: true, ..limits.clone() };
+        let mut best = self.search(db, config, &first, None, cancel, progress);
+        if best.status != Status::Solved {
+            return best;
+        }
+        let mut stats = best.stats.clone();
+        // The bound for what follows is the plan as written: without its
+        // redundant steps, its makespan may be shorter than as found.
+        let written = |q: Option<Quality>, plan: Option<&output::SolvedPlan>| {
+            q.zip(plan).map(|(q, p)| Quality { makespan: q.makespan.min(p.makespan), ..q })
+        };
+        stats.best = written(stats.best, best.plan.as_ref());
+        let report = |plan: &output::SolvedPlan, stats: &Stats, progress: &mut dyn FnMut(&Progress)| {
+            progress(&Progress {
+                expanded: stats.expanded,
+                open: 0,
+                best_f: stats.best.map_or(plan.makespan, |q| q.cost),
+                elapsed: limits.time_spent + started.elapsed(),
+                makespan: Some(plan.makespan),
+                improved: true,
+            })
+        };
+        if let Some(plan) = &best.plan {
+            report(plan, &stats, progress);
+        }
+        let merge = |stats: &mut Stats, run: &Stats| {
+            stats.expanded += run.expanded;
+            stats.generated += run.generated;
+            stats.peak_open = stats.peak_open.max(run.peak_open);
+            stats.redundant_time += run.redundant_time;
+        };
+        // The search without abstract actions, for at most half the time left.
+        let left = limits.time.map(|t| t.saturating_sub(spent(Duration::ZERO)));
+        if left.is_none_or(|l| !l.is_zero()) && !cancel() {
+            let mut task = self.task.clone();
+            bare(&mut task);
+            let h = heuristic::Heuristic::new(&task);
+            let bare_config = Config { bare: true, ..config.clone() };
+            let half = left.map(|l| spent(Duration::ZERO) + l / 2);
+            let bare_limits = PlannerLimits {
+                time: half,
+                time_spent: spent(Duration::ZERO),
+                first: true,
+                better_than: stats.best,
+                ..limits.clone()
+            };
+            let other = Prepared { task, h };
+            let run = other.search(db, &bare_config, &bare_limits, None, cancel, &mut |_| {});
+            merge(&mut stats, &run.stats);
+            if run.status == Status::Solved && run.plan.is_some() {
+                stats.best = written(run.stats.best, run.plan.as_ref());
+                stats.redundant_removed = run.stats.redundant_removed;
+                stats.plans_found += 1;
+                if let Some(plan) = &run.plan {
+                    report(plan, &stats, progress);
+                }
+                best.plan = run.plan;
+            }
+        }
+        // The configured search again, bounded by the best plan.
+        let bounded = PlannerLimits {
+            time_spent: spent(Duration::ZERO),
+            first: false,
+            better_than: stats.best,
+            ..limits.clone()
+        };
+        let run = self.search(db, config, &bounded, None, cancel, progress);
+        merge(&mut stats, &run.stats);
+        match (run.status, run.plan) {
+            (Status::Solved, Some(plan)) => {
+                stats.best = written(run.stats.best, Some(&plan));
+                stats.redundant_removed = run.stats.redundant_removed;
+                stats.plans_found += run.stats.plans_found;
+                stats.stopped_by = run.stats.stopped_by;
+                best.plan = Some(plan);
+            }
+            (Status::Limit(kind), _) if kind != LimitKind::Cancelled => stats.stopped_by = Some(kind),
+            _ => {}
+        }
+        stats.elapsed = limits.time_spent + started.elapsed();
+        best.stats = stats;
+        best
+    }
+
     /// Runs the search from the empty plan, or from the start plan `seed`
     /// (a repair, section 5.1 of the HiPOP paper: the search only adds to
     /// it). A seed the task cannot take gives no plan.

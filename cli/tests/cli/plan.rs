@@ -9,7 +9,7 @@ fn plan_exit_statuses() {
     let rover = ["samples/rover-mission/domain.hddl", "samples/rover-mission/problem.hddl"];
     let dir = TempDir::new("plan-exit");
     let out = format!("{}/rover.plan", dir.path());
-    let o = hipop(&["plan", rover[0], rover[1], "-o", &out, "--quiet"]);
+    let o = hipop(&["plan", rover[0], rover[1], "-o", &out, "--quiet", "--time-limit", "2"]);
     assert_no_panic(&o);
     assert_eq!(status(&o), 0, "{}", stderr(&o));
     let v = hipop(&["validate", rover[0], rover[1], &out]);
@@ -47,7 +47,7 @@ fn repair_exit_statuses() {
     let problem = "samples/satellite-abstract/instance-1.pddl";
     let old = dir.0.join("old.plan");
     let old_s = old.to_str().expect("UTF-8 temp path");
-    let o = hipop(&["plan", domain, problem, "-o", old_s, "-q"]);
+    let o = hipop(&["plan", domain, problem, "-o", old_s, "-q", "--first"]);
     assert_eq!(status(&o), 0, "{}", stderr(&o));
     let text = std::fs::read_to_string(workspace_root().join(problem)).expect("the problem");
     let write = |name: &str, text: String| {

@@ -235,7 +235,7 @@ fn repair_phantom_link_keeps_order() {
     assert!(run.start("(photograph c1 z3)") > run.start("(drill z2)"), "{}", run.plan);
     // Nothing in the new problem orders them: a plan from scratch does not.
     let [_, _, _, domain, problem] = files("phantom-link-keeps-order");
-    let o = hipop(&["plan", &domain, &problem, "-q"]);
+    let o = hipop(&["plan", &domain, &problem, "-q", "--first"]);
     assert_eq!(status(&o), 0, "{}", stderr(&o));
     let scratch = steps_of(&stdout(&o));
     let drill = scratch.iter().find(|s| s.0 == "(drill z2)").expect("drilling");
@@ -405,7 +405,7 @@ fn repair_of_a_robot_out_of_service() {
     let domain = "samples/surveillance/domain.pddl";
     let old = dir.0.join("old.plan");
     let old_s = old.to_str().expect("UTF-8 temp path");
-    let o = hipop(&["plan", domain, "samples/surveillance/problem.pddl", "-o", old_s, "-q"]);
+    let o = hipop(&["plan", domain, "samples/surveillance/problem.pddl", "-o", old_s, "-q", "--first"]);
     assert_eq!(status(&o), 0, "{}", stderr(&o));
     let lost = "samples/surveillance/problem-lost-mona2.pddl";
     let repaired = dir.0.join("repaired.plan");

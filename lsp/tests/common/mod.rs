@@ -24,6 +24,41 @@ pub fn fixture(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(rel)
 }
 
+/// A fresh folder in the temporary directory, removed with what it holds
+/// when the test is done (even when it fails).
+pub struct Scratch(PathBuf);
+
+impl Scratch {
+    pub fn new(name: &str) -> Scratch {
+        let dir = std::env::temp_dir().join(format!("hipop-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("scratch folder");
+        Scratch(dir)
+    }
+
+    /// With copies of `files` of the fixture folder `from`.
+    pub fn with_fixture(name: &str, from: &str, files: &[&str]) -> Scratch {
+        let dir = Scratch::new(name);
+        for file in files {
+            std::fs::copy(fixture(from).join(file), dir.join(file)).expect("copying a fixture");
+        }
+        dir
+    }
+}
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
 pub fn file_uri(path: &Path) -> String {
     let mut uri = String::from("file://");
     for b in path.to_str().expect("UTF-8 path").bytes() {

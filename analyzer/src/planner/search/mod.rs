@@ -29,7 +29,7 @@ use super::itinerary::{Geo, Pending};
 use super::plan::Plan;
 use super::stn::Tp;
 use super::task::Task;
-use super::{Config, LimitKind, Motion, PlannerLimits, Progress, Stats};
+use super::{Config, LimitKind, Motion, PlannerLimits, Progress, Quality, Stats};
 
 /// What a unit of work costs in `g` beyond the makespan: every step costs
 /// something, so that no chain of steps is free (a step that fits in
@@ -70,6 +70,9 @@ impl Drop for Open {
 
 struct Node {
     f: f64,
+    /// The makespan of its earliest schedule, which no completion of the
+    /// plan shortens: the bound of a search that goes on after a plan.
+    span: f64,
     /// Its lineage had a greedy completion already.
     probed: bool,
     effort: f64,
@@ -148,12 +151,14 @@ impl<'a, 'db> Search<'a, 'db> {
     /// `g`, `h` and the effort of a plan about to enter the open list,
     /// after its threats with one ordering left are solved; `None` when a
     /// threat has none (the plan is dead).
-    fn score(&self, plan: &mut Plan) -> Option<(f64, f64, f64)> {
+    /// Also the makespan of its earliest schedule, which no completion of
+    /// the plan shortens (steps and orderings are only added).
+    fn score(&self, plan: &mut Plan) -> Option<(f64, f64, f64, f64)> {
         let penalty = self.settle(plan)?;
         let (h, effort) = self.estimate(plan);
         let (busiest, total) = self.work(plan);
-        let g = plan.makespan().max(busiest) + penalty + STEP_COST * total;
-        Some((g, h, effort))
+        let span = plan.makespan();
+        Some((span.max(busiest) + penalty + STEP_COST * total, h, effort, span))
     }
 
     /// Whether a flaw belongs to the completion of a plan: what is left
@@ -173,7 +178,7 @@ impl<'a, 'db> Search<'a, 'db> {
         for mut c in children {
             let added = if linking { c.steps.len() - p.steps.len() } else { 0 };
             match self.score(&mut c) {
-                Some((g, h, effort)) => out.push(Scored { f: g + h, effort, added, plan: c }),
+                Some((g, h, effort, span)) => out.push(Scored { f: g + h, span, effort, added, plan: c }),
                 None => dead(&c),
             }
         }
@@ -188,6 +193,7 @@ impl<'a, 'db> Search<'a, 'db> {
         &self,
         first: Vec<Plan>,
         budget: u64,
+        admits: &dyn Fn(f64) -> bool,
         stats: &mut Stats,
         deadline: &dyn Fn() -> bool,
     ) -> Option<Plan> {
@@ -213,13 +219,25 @@ impl<'a, 'db> Search<'a, 'db> {
                 return Some(p);
             };
             let mut scored = self.expand(&p, flaw, stats, &mut |_| {});
+            scored.retain(|c| admits(c.span));
             scored.sort_by(Scored::probe_order);
             stack.push(scored.into_iter().map(|x| x.plan).collect::<Vec<_>>().into_iter());
         }
     }
 
+    /// What a plan without flaws costs: its `g` (the makespan, or the
+    /// busiest agent's work when larger, and the step cost).
+    fn solution_cost(&self, plan: &Plan) -> f64 {
+        let (busiest, total) = self.work(plan);
+        plan.makespan().max(busiest) + STEP_COST * total
+    }
+
     /// Runs the search from `roots` ([`Search::initial`], or a repair's
-    /// start plans, [`Search::seeded`]).
+    /// start plans, [`Search::seeded`]). With [`PlannerLimits::first`] it
+    /// returns the first plan found; otherwise it goes on with the best plan
+    /// found as a bound on `f` (branch and bound: children that cannot do
+    /// better are dropped), until no plan left in the open list can do
+    /// better or a limit is reached, and returns the best.
     pub fn run(
         &self,
         roots: Vec<Plan>,
@@ -245,11 +263,11 @@ impl<'a, 'db> Search<'a, 'db> {
         let probing = self.config.lookahead;
         for mut root in roots {
             match self.score(&mut root) {
-                Some((g, h, effort)) => {
+                Some((g, h, effort, span)) => {
                     id += 1;
                     stats.generated += 1;
                     let size = root.steps.len();
-                    heap.push(Node { f: g + h, effort, size, id, probed: false, plan: root });
+                    heap.push(Node { f: g + h, span, effort, size, id, probed: false, plan: root });
                 }
                 None => keep_best(&root, best, &mut best_effort),
             }
@@ -258,8 +276,62 @@ impl<'a, 'db> Search<'a, 'db> {
             |elapsed: std::time::Duration| limits.time.is_some_and(|t| elapsed + limits.time_spent >= t);
         let time_up = || out_of_time(started.elapsed()) || cancel();
         let mut last_report = Instant::now();
+        let mut last_in_use = limits.memory_in_use.map_or(0, |f| f());
         let mut next_milestone: u64 = 1024;
-        while let Some(node) = heap.pop() {
+        // The best plan found and its cost, when the search goes on.
+        let mut incumbent: Option<(Plan, Quality)> = None;
+        // A plan found: returned when it is the first and `first` is set;
+        // else kept when better than the best, and `None` asks to go on.
+        let found = |plan: Plan,
+                     stats: &mut Stats,
+                     incumbent: &mut Option<(Plan, Quality)>,
+                     open: usize,
+                     progress: &mut dyn FnMut(&Progress)|
+         -> Option<End2> {
+            let elapsed = started.elapsed();
+            let quality = Quality { makespan: plan.makespan(), cost: self.solution_cost(&plan) };
+            let known = incumbent.as_ref().map(|(_, q)| *q).or(limits.better_than);
+            if known.is_some_and(|k| !quality.better_than(k)) {
+                return None;
+            }
+            stats.best = Some(quality);
+            if limits.first {
+                stats.elapsed = elapsed;
+                stats.first_found = Some(elapsed);
+                stats.plans_found = 1;
+                return Some(End2::Solved(Box::new(plan)));
+            }
+            stats.first_found.get_or_insert(elapsed);
+            stats.plans_found += 1;
+            progress(&Progress {
+                expanded: stats.expanded,
+                open,
+                best_f: quality.cost,
+                elapsed: limits.time_spent + elapsed,
+                makespan: Some(quality.makespan),
+                improved: true,
+            });
+            *incumbent = Some((plan, quality));
+            None
+        };
+        // How a search that goes on ends: with its best plan, if any.
+        let settle_end =
+            |end: End2, incumbent: Option<(Plan, Quality)>, stats: &mut Stats| match (end, incumbent) {
+                (End2::Limit(kind), Some((plan, _))) if kind != LimitKind::Cancelled => {
+                    stats.stopped_by = Some(kind);
+                    End2::Solved(Box::new(plan))
+                }
+                (End2::Exhausted, Some((plan, _))) => End2::Solved(Box::new(plan)),
+                (end, _) => end,
+            };
+        let end = loop {
+            let Some(node) = heap.pop() else { break End2::Exhausted };
+            let known = incumbent.as_ref().map(|(_, q)| *q).or(limits.better_than);
+            let admits = |makespan: f64| known.is_none_or(|k| k.admits(makespan));
+            if !admits(node.span) {
+                // Found since it entered the open list: cannot do better.
+                continue;
+            }
             let mut plan = node.plan;
             plan.stn.flush();
             plan.stn.defer();
@@ -274,10 +346,10 @@ impl<'a, 'db> Search<'a, 'db> {
                 let elapsed = started.elapsed();
                 stats.elapsed = elapsed;
                 if cancel() {
-                    return End2::Limit(LimitKind::Cancelled);
+                    break End2::Limit(LimitKind::Cancelled);
                 }
                 if out_of_time(elapsed) {
-                    return End2::Limit(LimitKind::Time);
+                    break End2::Limit(LimitKind::Time);
                 }
                 if last_report.elapsed().as_millis() >= 100 {
                     last_report = Instant::now();
@@ -285,32 +357,45 @@ impl<'a, 'db> Search<'a, 'db> {
                         expanded: stats.expanded,
                         open: heap.len(),
                         best_f: node.f,
-                        elapsed,
+                        elapsed: limits.time_spent + elapsed,
+                        makespan: incumbent.as_ref().map(|(p, _)| p.makespan()),
+                        improved: false,
                     });
                 }
             }
             if limits.nodes.is_some_and(|n| stats.expanded > n) {
                 stats.elapsed = started.elapsed();
-                return End2::Limit(LimitKind::Nodes);
+                break End2::Limit(LimitKind::Nodes);
             }
             let over = match (limits.memory, limits.memory_in_use) {
-                // Measured: often enough (a plan is a few kilobytes to a few
-                // hundred; 32 expansions cannot overshoot by much).
-                (Some(m), Some(in_use)) => stats.expanded.is_multiple_of(32) && in_use() > m,
+                // Measured every 32 expansions (a plan is a few kilobytes to
+                // a few hundred), and the search stops when the next 32,
+                // growing the memory as much as the last 32 did, would go
+                // over: it ends under the limit, not a few megabytes past it.
+                (Some(m), Some(in_use)) if stats.expanded.is_multiple_of(32) => {
+                    let now = in_use();
+                    let next = now.saturating_add(now.saturating_sub(last_in_use));
+                    last_in_use = now;
+                    next > m
+                }
+                (Some(_), Some(_)) => false,
                 (Some(m), None) => heap.len().saturating_mul(approx_plan_bytes(&plan)) > m,
                 (None, _) => false,
             };
             if over {
                 stats.elapsed = started.elapsed();
-                return End2::Limit(LimitKind::Memory);
+                break End2::Limit(LimitKind::Memory);
             }
             let Some(flaw) = self.select(&mut plan) else {
-                stats.elapsed = started.elapsed();
                 plan.stn.flush();
-                return End2::Solved(Box::new(plan));
+                match found(plan, stats, &mut incumbent, heap.len(), progress) {
+                    Some(end) => return end,
+                    None => continue,
+                }
             };
             let completes = Self::completes(&flaw);
-            let scored = self.expand(&plan, flaw, stats, &mut |c| keep_best(c, best, &mut best_effort));
+            let mut scored = self.expand(&plan, flaw, stats, &mut |c| keep_best(c, best, &mut best_effort));
+            scored.retain(|c| admits(c.span));
             // A plan entering its completion: first a greedy descent from
             // its children. And when A* has spent 1024, 2048, 4096…
             // expansions, the plan it is at gets one too, whatever is left.
@@ -333,26 +418,30 @@ impl<'a, 'db> Search<'a, 'db> {
                 let mut first: Vec<&Scored> = scored.iter().collect();
                 first.sort_by(|a, b| Scored::probe_order(a, b));
                 let first = first.into_iter().map(|s| s.plan.clone()).collect();
-                if let Some(found) = self.probe(first, budget, stats, &time_up) {
-                    stats.elapsed = started.elapsed();
-                    return End2::Solved(Box::new(found));
+                if let Some(plan) = self.probe(first, budget, &admits, stats, &time_up)
+                    && let Some(end) = found(plan, stats, &mut incumbent, heap.len(), progress)
+                {
+                    return end;
                 }
             }
             for c in scored {
                 id += 1;
                 let size = c.plan.steps.len();
-                heap.push(Node { f: c.f, effort: c.effort, size, id, probed, plan: c.plan });
+                heap.push(Node { f: c.f, span: c.span, effort: c.effort, size, id, probed, plan: c.plan });
             }
-        }
+        };
         stats.elapsed = started.elapsed();
-        stats.loops_skipped = self.loops.get();
-        End2::Exhausted
+        if matches!(end, End2::Exhausted) && incumbent.is_none() {
+            stats.loops_skipped = self.loops.get();
+        }
+        settle_end(end, incumbent, stats)
     }
 }
 
 /// A child plan with its score.
 struct Scored {
     f: f64,
+    span: f64,
     effort: f64,
     /// Steps it added for an open link.
     added: usize,
