@@ -315,6 +315,108 @@ pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
     units
 }
 
+/// The header of one `define` unit: what [`file_units`] records of it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UnitHeader {
+    pub kind: UnitKind,
+    /// The lower-cased name from `(domain name)` / `(problem name)`.
+    pub name: Option<String>,
+    /// For problems: the lower-cased name from `(:domain name)`.
+    pub domain_ref: Option<String>,
+}
+
+/// The kind, name and domain reference of each unit [`file_units`] finds in
+/// `text`, read in one pass over its bytes without building a tree (a
+/// fraction of the cost of parsing). Only for a text whose lists all close,
+/// that closes none too many and that nests well below the parser's limit:
+/// there the tree is the text's plain s-expressions, and the answer is the
+/// same. `None` for any other text, whose reading depends on the parser's
+/// recovery, and for a text without a `define` (it may read as a plan).
+pub fn scan_unit_headers(text: &str) -> Option<Vec<UnitHeader>> {
+    /// An open list: how many elements it has so far, and its first two when they are atoms.
+    #[derive(Default)]
+    struct Open {
+        count: u32,
+        head: Option<(usize, usize)>,
+        second: Option<(usize, usize)>,
+    }
+    const DEPTH_LIMIT: usize = syntax::MAX_NESTING / 2;
+    let bytes = text.as_bytes();
+    let atom = |r: Option<(usize, usize)>| r.map(|(a, b)| &text[a..b]);
+    let mut open: Vec<Open> = Vec::new();
+    let mut units = Vec::new();
+    let (mut header, mut domain_ref): (Option<(UnitKind, Option<String>)>, Option<String>) = (None, None);
+    let mut i = if text.starts_with(syntax::BOM) { syntax::BOM.len() } else { 0 };
+    while i < bytes.len() {
+        match bytes[i] {
+            b'(' => {
+                if let Some(parent) = open.last_mut() {
+                    parent.count += 1;
+                }
+                if open.len() >= DEPTH_LIMIT {
+                    return None;
+                }
+                open.push(Open::default());
+                i += 1;
+            }
+            b')' => {
+                let list = open.pop()?;
+                i += 1;
+                let is = |r: Option<(usize, usize)>, word: &str| {
+                    atom(r).is_some_and(|t| t.eq_ignore_ascii_case(word))
+                };
+                match open.len() {
+                    // A section of a top-level list: of a `define`, its header or `(:domain …)`.
+                    1 if is(open[0].head, "define") => {
+                        let lower = |r| atom(r).map(str::to_ascii_lowercase);
+                        if header.is_none() {
+                            if is(list.head, "domain") {
+                                header = Some((UnitKind::Domain, lower(list.second)));
+                            } else if is(list.head, "problem") {
+                                header = Some((UnitKind::Problem, lower(list.second)));
+                            }
+                        }
+                        if is(list.head, ":domain") {
+                            domain_ref = lower(list.second);
+                        }
+                    }
+                    0 => {
+                        let (h, d) = (header.take(), domain_ref.take());
+                        if is(list.head, "define") {
+                            let (kind, name) = h.unwrap_or((UnitKind::Unknown, None));
+                            units.push(UnitHeader { kind, name, domain_ref: d });
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            b';' => {
+                while i < bytes.len() && bytes[i] != b'\n' && bytes[i] != b'\r' {
+                    i += 1;
+                }
+            }
+            b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c => i += 1,
+            _ => {
+                let start = i;
+                while i < bytes.len()
+                    && !matches!(bytes[i], b'(' | b')' | b';' | b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c)
+                {
+                    i += 1;
+                }
+                if let Some(list) = open.last_mut() {
+                    match list.count {
+                        0 => list.head = Some((start, i)),
+                        1 => list.second = Some((start, i)),
+                        _ => {}
+                    }
+                    list.count += 1;
+                }
+            }
+        }
+    }
+    (open.is_empty() && !units.is_empty()).then_some(units)
+}
+
 /// Lowers one item to its model.
 #[salsa::tracked(returns(ref))]
 pub fn lower_item<'db>(db: &'db dyn Db, item: Item<'db>) -> Lowered {

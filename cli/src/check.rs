@@ -1,7 +1,12 @@
 //! `hipop check`.
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use hipop_analyzer::db::{UnitHeader, UnitKind};
 use hipop_analyzer::fix::{apply_edits, select_fixes};
-use hipop_analyzer::{AnalysisHost, Diagnostic, Fix, Severity, SourceFile, TextRange};
+use hipop_analyzer::semantics::resolve::independent_groups;
+use hipop_analyzer::{Analysis, AnalysisHost, Diagnostic, Fix, Severity, SourceFile, TextRange};
 
 use crate::inputs::{Input, collect};
 use crate::render::{Rendered, Sources};
@@ -32,26 +37,22 @@ pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
     let mut host = AnalysisHost::new();
     host.set_triangle_tolerance(options.triangle_tolerance);
     let mut io_errors = Vec::new();
-    let mut files = Vec::new();
+    let mut texts: Vec<(String, Arc<str>)> = Vec::new();
     for input in inputs {
         match input {
-            Input::File { path, text } => files.push(host.set_file_text(&path, text)),
+            Input::File { path, text } => texts.push((path, Arc::from(text))),
             Input::Problem { path, message } => io_errors.push((path, message)),
         }
     }
+    let files: Vec<SourceFile> =
+        texts.iter().map(|(path, text)| host.set_file_text(path, text.clone())).collect();
+    let explain = options.explain == Some(crate::Explain::Families) && options.format == Format::Human;
+    let Some(checked) = check_groups(&host, &files, &texts, options, explain) else {
+        eprintln!("error: the analysis was interrupted; this is a bug in hipop, please report it");
+        return 2;
+    };
+    let diagnostics: Vec<Diagnostic> = checked.iter().flat_map(|c| c.diagnostics.iter().cloned()).collect();
     let analysis = host.analysis();
-    let mut diagnostics: Vec<Diagnostic> = Vec::new();
-    for &f in &files {
-        match analysis.diagnostics(f) {
-            Ok(d) => diagnostics.extend(d.into_iter().filter(|d| !options.allow.contains(&d.code))),
-            // Nothing writes to the database while the CLI reads it, so this
-            // cannot happen; if it ever did, say so rather than print half a result.
-            Err(_) => {
-                eprintln!("error: the analysis was interrupted; this is a bug in hipop, please report it");
-                return 2;
-            }
-        }
-    }
     let sources = Sources::new(&analysis, &files);
     let rendered = Rendered {
         sources: &sources,
@@ -67,22 +68,106 @@ pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
         Format::Github => rendered.github(),
     }
     // Machine-readable formats own standard output: the explanation is for people.
-    if options.explain == Some(crate::Explain::Families) && options.format == Format::Human {
-        for &f in &files {
-            match analysis.explain_families(f) {
-                Ok(reports) => reports.iter().for_each(|r| print!("{r}")),
-                Err(_) => return 2,
-            }
-        }
+    for c in &checked {
+        c.families.iter().for_each(|r| print!("{r}"));
     }
     let errors = diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
     let warnings = diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
+    // The process ends right after: freeing the database, item by item, would
+    // only take time.
+    std::mem::forget(host);
     if !io_errors.is_empty() {
         2
     } else if errors > 0 || (options.deny_warnings && warnings > 0) {
         1
     } else {
         0
+    }
+}
+
+/// What was found in one file: its diagnostics (those silenced by `--allow`
+/// left out), and with `--explain families` the explanation of its problems.
+#[derive(Default)]
+struct Checked {
+    diagnostics: Vec<Diagnostic>,
+    families: Vec<String>,
+}
+
+/// Checks `files` (of `host`, with their `texts`), one result per file. When
+/// the files fall into independent groups (a domain with its problems,
+/// [`independent_groups`]), each group is checked in a database of its own,
+/// dropped before the next: a folder of many domains never holds them all,
+/// with every memo, at once. The diagnostics are the same as those of one
+/// database, their files those of `host`. `None` if the analysis was
+/// cancelled, which nothing does while the CLI reads it.
+fn check_groups(
+    host: &AnalysisHost,
+    files: &[SourceFile],
+    texts: &[(String, Arc<str>)],
+    options: &Options,
+    explain: bool,
+) -> Option<Vec<Checked>> {
+    let check = |analysis: &Analysis, f: SourceFile| -> Option<Checked> {
+        let diagnostics = analysis.diagnostics(f).ok()?;
+        let diagnostics = diagnostics.into_iter().filter(|d| !options.allow.contains(&d.code)).collect();
+        let families = if explain { analysis.explain_families(f).ok()? } else { Vec::new() };
+        Some(Checked { diagnostics, families })
+    };
+    let groups = groups(texts);
+    if groups.len() < 2 {
+        let analysis = host.analysis();
+        return files.iter().map(|&f| check(&analysis, f)).collect();
+    }
+    let mut out: Vec<Checked> = files.iter().map(|_| Checked::default()).collect();
+    for group in groups {
+        let mut own = AnalysisHost::new();
+        own.set_triangle_tolerance(options.triangle_tolerance);
+        let own_files: Vec<SourceFile> =
+            group.iter().map(|&i| own.set_file_text(&texts[i].0, texts[i].1.clone())).collect();
+        // This group's files are the host's files at the same indices.
+        let to_host: HashMap<SourceFile, SourceFile> =
+            own_files.iter().zip(&group).map(|(&f, &i)| (f, files[i])).collect();
+        let analysis = own.analysis();
+        for (&f, &i) in own_files.iter().zip(&group) {
+            let mut c = check(&analysis, f)?;
+            c.diagnostics.iter_mut().for_each(|d| relocate(d, &to_host));
+            out[i] = c;
+        }
+    }
+    Some(out)
+}
+
+/// The independent groups of the files, or one group of all when a file's
+/// units cannot be told without parsing it (see `scan_unit_headers`) or a file
+/// is a plan (a plan's problem is found among the workspace's files).
+fn groups(texts: &[(String, Arc<str>)]) -> Vec<Vec<usize>> {
+    let all = || vec![(0..texts.len()).collect()];
+    let mut headers = Vec::with_capacity(texts.len());
+    for (path, text) in texts {
+        if hipop_analyzer::db::is_plan_path(path) {
+            return all();
+        }
+        match hipop_analyzer::db::scan_unit_headers(text) {
+            Some(h) if h.iter().all(|u| u.kind != UnitKind::Unknown) => headers.push(h),
+            _ => return all(),
+        }
+    }
+    let files: Vec<(&str, &[UnitHeader])> =
+        texts.iter().zip(&headers).map(|((p, _), h)| (p.as_str(), h.as_slice())).collect();
+    independent_groups(&files)
+}
+
+/// Moves a diagnostic found in a group's database to the files of the host.
+fn relocate(d: &mut Diagnostic, to_host: &HashMap<SourceFile, SourceFile>) {
+    let at = |f: &mut SourceFile| {
+        if let Some(&h) = to_host.get(f) {
+            *f = h;
+        }
+    };
+    at(&mut d.file);
+    d.related.iter_mut().for_each(|r| at(&mut r.file));
+    if let Some(fix) = &mut d.fix {
+        fix.edits.iter_mut().for_each(|(f, _, _)| at(f));
     }
 }
 

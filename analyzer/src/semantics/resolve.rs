@@ -106,3 +106,76 @@ pub fn problems_of<'db>(db: &'db dyn Db, domain: Unit<'db>) -> Vec<Unit<'db>> {
     }
     out
 }
+
+/// Splits files into groups that can each be checked in a database of their
+/// own with the same diagnostics as all together: `files` are the paths and
+/// unit headers ([`crate::db::scan_unit_headers`]) of a workspace's domain
+/// and problem files. Returns the groups as indices into `files`, each in
+/// increasing order, the groups in the order of their first file.
+///
+/// Files see each other only through [`resolve_domain`] and [`problems_of`].
+/// A problem is put with every domain its resolution may pick: the domains of
+/// the name it refers to in its own file or folder when there are some (one
+/// of them is the answer, whatever else the workspace holds); otherwise the
+/// domains of that name anywhere and every domain in its file or folder (the
+/// candidates of a mismatch). In its group, a problem's resolution then sees
+/// the same candidates that decide it, in the same order, and a domain's
+/// problems are all there.
+pub fn independent_groups(files: &[(&str, &[crate::db::UnitHeader])]) -> Vec<Vec<usize>> {
+    use rustc_hash::FxHashMap;
+    let mut parent: Vec<usize> = (0..files.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut union = |a: usize, b: usize| {
+        let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+        if ra != rb {
+            parent[ra.max(rb)] = ra.min(rb);
+        }
+    };
+    // The files holding a domain of each name, and those holding any domain, per folder.
+    let mut named: FxHashMap<&str, Vec<usize>> = FxHashMap::default();
+    let mut in_dir: FxHashMap<&str, Vec<usize>> = FxHashMap::default();
+    for (i, (path, units)) in files.iter().enumerate() {
+        for u in units.iter().filter(|u| u.kind == UnitKind::Domain) {
+            if let Some(name) = &u.name {
+                named.entry(name.as_str()).or_default().push(i);
+            }
+            let dir = in_dir.entry(dir_of(path)).or_default();
+            if dir.last() != Some(&i) {
+                dir.push(i);
+            }
+        }
+    }
+    for (i, (path, units)) in files.iter().enumerate() {
+        let dir = dir_of(path);
+        for wanted in
+            units.iter().filter(|u| u.kind == UnitKind::Problem).filter_map(|u| u.domain_ref.as_deref())
+        {
+            let candidates = named.get(wanted).map_or(&[][..], |v| v.as_slice());
+            let near: Vec<usize> =
+                candidates.iter().copied().filter(|&j| j == i || dir_of(files[j].0) == dir).collect();
+            if near.is_empty() {
+                candidates.iter().for_each(|&j| union(i, j));
+                in_dir.get(dir).into_iter().flatten().for_each(|&j| union(i, j));
+            } else {
+                near.into_iter().for_each(|j| union(i, j));
+            }
+        }
+    }
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut index: FxHashMap<usize, usize> = FxHashMap::default();
+    for i in 0..files.len() {
+        let r = root(&mut parent, i);
+        let g = *index.entry(r).or_insert_with(|| {
+            groups.push(Vec::new());
+            groups.len() - 1
+        });
+        groups[g].push(i);
+    }
+    groups
+}

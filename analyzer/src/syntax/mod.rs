@@ -16,7 +16,7 @@ use std::sync::Arc;
 
 pub use green::{GAtom, GList, GSexp};
 pub use kind::{Lang, SyntaxElement, SyntaxKind, SyntaxNode, SyntaxToken};
-pub use lexer::{classify_atom, looks_like_a_number};
+pub use lexer::{BOM, classify_atom, looks_like_a_number};
 pub use parser::{FIELD_KEYWORDS, ITEM_HEADS, MAX_NESTING, SECTION_HEADS, SyntaxError, SyntaxErrorKind};
 pub use reparse::TextEdit;
 pub use rowan::{GreenNode, GreenToken, NodeOrToken, TextRange, TextSize};

@@ -1,13 +1,17 @@
 //! Deterministic generator of hipop sample missions: the surveillance mission
 //! of the HiPOP case study, scaled-up variants for throughput benchmarks, the
-//! Survivors benchmark of the paper (with witness plans), and the IPC 2002
-//! Satellite problems with abstract actions. The same arguments always give
-//! the same bytes.
+//! Survivors benchmark of the paper (with witness plans), the IPC 2002
+//! Satellite problems with abstract actions, and large inputs for the
+//! throughput benchmarks of `hipop check` (airports in the shape of the IPC
+//! 2004 Airport domains, large Satellite problems). The same arguments always
+//! give the same bytes.
 
+pub mod airport;
 mod emit;
 mod geo;
 mod rng;
 pub mod satellite;
+pub mod satgen;
 pub mod survivors;
 mod world;
 

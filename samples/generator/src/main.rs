@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use hipop_samplegen::{
-    DEFAULT_SEED, LOST_ROBOT, big, satellite, surveillance, surveillance_lost, survivors, survivors_repair,
+    DEFAULT_SEED, LOST_ROBOT, airport, big, satellite, surveillance, surveillance_lost, survivors,
+    survivors_repair,
 };
 
 const HELP: &str = "\
@@ -21,6 +22,9 @@ USAGE:
     hipop-samplegen survivors [--seed N] [--witness] [--out DIR]
     hipop-samplegen survivors-repair [--seed N] [--out DIR]
     hipop-samplegen satellite-abstract --corpus DIR [--out DIR]
+    hipop-samplegen airport --size-mb N [--seed N] [--out DIR]
+    hipop-samplegen airport-set --pairs N --size-mb N [--seed N] [--out DIR]
+    hipop-samplegen satellite-time --size-mb N [--seed N] [--out DIR]
     hipop-samplegen --help
 
 COMMANDS:
@@ -49,6 +53,17 @@ COMMANDS:
                     were reported, each with the problems after three disruptive events:
                     STEM-startingPos.pddl (a robot starts elsewhere), STEM-newSurvivor.pddl (a new
                     survivor) and STEM-survivorPos.pddl (a survivor found elsewhere).
+    airport         An airport in the shape of the IPC 2004 Airport domains (temporal), for
+                    the throughput benchmarks of `hipop check`: a large domain whose segments and
+                    airplanes are constants and whose actions are nearly ground (a move per pair
+                    of adjacent segments, direction and airplane type), and its problem; writes
+                    domain.pddl and problem.pddl, about N MiB together.
+    airport-set     A folder like the IPC 2004 Airport set: pNN-domain.pddl and pNN-airport.pddl
+                    for NN = 01 to the number of pairs, the sizes growing linearly up to N MiB
+                    for the last pair.
+    satellite-time  A problem of the IPC 2002 temporal Satellite domain with durations from
+                    fluents, of about N MiB (ten satellites, the slew time of every pair of
+                    directions), and the domain; writes domain.pddl and problem.pddl.
     satellite-abstract
                     The IPC 2002 temporal Satellite domain of the corpus folder DIR with
                     abstract actions (calibrate_instrument, get_image), and a copy of each
@@ -59,7 +74,8 @@ OPTIONS:
                     always gives the same bytes.
     --out DIR       Directory receiving the files (default: the current directory);
                     created if missing.
-    --size-mb N     Target size of the big problem in MiB (a decimal number, > 0).
+    --size-mb N     Target size in MiB (a decimal number, > 0): big and satellite-time, of the
+                    problem; airport, of the pair; airport-set, of the largest pair.
     --robot NAME    surveillance-lost: the robot out of service (default mona2).
     --at S          surveillance-lost: from when, in whole seconds (default 3000).
     --witness       survivors: also write, per problem, a plan that solves it, in VAL's
@@ -67,6 +83,7 @@ OPTIONS:
                     (STEM.hier.plan).
     --corpus DIR    satellite-abstract: the corpus folder (its domain.pddl and
                     instances/*.pddl), e.g. .../ipc2002-temporal/satellite-time-simple-automatic
+    --pairs N       airport-set: the number of domain and problem pairs.
     -h, --help      Print this help.
 
 EXAMPLES:
@@ -83,6 +100,9 @@ enum Command {
     Survivors { seed: u64, witness: bool, out: PathBuf },
     SurvivorsRepair { seed: u64, out: PathBuf },
     SatelliteAbstract { corpus: PathBuf, out: PathBuf },
+    Airport { size_mb: f64, seed: u64, out: PathBuf },
+    AirportSet { pairs: usize, size_mb: f64, seed: u64, out: PathBuf },
+    SatelliteTime { size_mb: f64, seed: u64, out: PathBuf },
 }
 
 fn parse_args(args: &[String]) -> Result<Command, String> {
@@ -97,6 +117,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
     let mut size_mb = None;
     let mut witness = false;
     let mut corpus = None;
+    let mut pairs = None;
     let (mut robot, mut at) = (LOST_ROBOT.0.to_string(), LOST_ROBOT.1);
     let mut rest = args[1..].iter();
     while let Some(flag) = rest.next() {
@@ -108,7 +129,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
                 seed = v.parse().map_err(|_| format!("invalid seed `{v}` (expected an unsigned integer)"))?;
             }
             "--out" => out = PathBuf::from(value("--out")?),
-            "--size-mb" if cmd == "big" => {
+            "--size-mb" if matches!(cmd.as_str(), "big" | "airport" | "airport-set" | "satellite-time") => {
                 let v = value("--size-mb")?;
                 let n: f64 =
                     v.parse().map_err(|_| format!("invalid size `{v}` (expected a number of MiB)"))?;
@@ -116,6 +137,15 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
                     return Err(format!("size `{v}` out of range (0 < N <= 4096)"));
                 }
                 size_mb = Some(n);
+            }
+            "--pairs" if cmd == "airport-set" => {
+                let v = value("--pairs")?;
+                let n: usize =
+                    v.parse().map_err(|_| format!("invalid count `{v}` (expected a positive integer)"))?;
+                if !(1..=99).contains(&n) {
+                    return Err(format!("count `{v}` out of range (1 to 99)"));
+                }
+                pairs = Some(n);
             }
             "--witness" if cmd == "survivors" => witness = true,
             "--robot" if cmd == "surveillance-lost" => robot = value("--robot")?,
@@ -133,6 +163,19 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
         "big" => {
             let size_mb = size_mb.ok_or("big needs --size-mb N")?;
             Ok(Command::Big { size_mb, seed, out })
+        }
+        "airport" => {
+            let size_mb = size_mb.ok_or("airport needs --size-mb N")?;
+            Ok(Command::Airport { size_mb, seed, out })
+        }
+        "airport-set" => {
+            let size_mb = size_mb.ok_or("airport-set needs --size-mb N")?;
+            let pairs = pairs.ok_or("airport-set needs --pairs N")?;
+            Ok(Command::AirportSet { pairs, size_mb, seed, out })
+        }
+        "satellite-time" => {
+            let size_mb = size_mb.ok_or("satellite-time needs --size-mb N")?;
+            Ok(Command::SatelliteTime { size_mb, seed, out })
         }
         "survivors" => Ok(Command::Survivors { seed, witness, out }),
         "survivors-repair" => Ok(Command::SurvivorsRepair { seed, out }),
@@ -178,6 +221,13 @@ fn main() -> ExitCode {
         Ok(Command::SurveillanceLost { seed, robot, at, out }) => surveillance_lost(seed, &robot, at)
             .and_then(|text| write_all(&out, &[(format!("problem-lost-{robot}.pddl"), text)], true)),
         Ok(Command::Big { size_mb, seed, out }) => write_files(&out, &big(size_mb, seed)),
+        Ok(Command::Airport { size_mb, seed, out }) => write_files(&out, &airport::airport(size_mb, seed)),
+        Ok(Command::AirportSet { pairs, size_mb, seed, out }) => {
+            write_all(&out, &airport::airport_set(pairs, size_mb, seed), false)
+        }
+        Ok(Command::SatelliteTime { size_mb, seed, out }) => {
+            write_files(&out, &hipop_samplegen::satgen::satellite_time(size_mb, seed))
+        }
         Ok(Command::Survivors { seed, witness, out }) => write_all(&out, &survivors(seed, witness), false),
         Ok(Command::SurvivorsRepair { seed, out }) => write_all(&out, &survivors_repair(seed), false),
         Ok(Command::SatelliteAbstract { corpus, out }) => {
@@ -237,6 +287,17 @@ mod tests {
         assert!(parse_args(&args("satellite-abstract --out d")).is_err());
         assert!(parse_args(&args("surveillance --witness")).is_err());
         assert!(parse_args(&args("big")).is_err());
+        assert_eq!(
+            parse_args(&args("airport-set --pairs 50 --size-mb 2.1")),
+            Ok(Command::AirportSet { pairs: 50, size_mb: 2.1, seed: DEFAULT_SEED, out: PathBuf::from(".") })
+        );
+        assert!(parse_args(&args("airport-set --size-mb 2")).is_err());
+        assert!(parse_args(&args("airport-set --pairs 0 --size-mb 2")).is_err());
+        assert!(parse_args(&args("airport --pairs 3 --size-mb 2")).is_err());
+        assert_eq!(
+            parse_args(&args("satellite-time --size-mb 3.25")),
+            Ok(Command::SatelliteTime { size_mb: 3.25, seed: DEFAULT_SEED, out: PathBuf::from(".") })
+        );
         assert!(parse_args(&args("surveillance --size-mb 3")).is_err());
         assert!(parse_args(&args("surveillance --seed -1")).is_err());
         assert!(parse_args(&args("frobnicate")).is_err());

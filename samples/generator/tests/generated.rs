@@ -339,3 +339,54 @@ fn compare_with_committed(folder: &str, files: &[(String, String)]) -> usize {
     }
     compared
 }
+
+/// The errors and warnings of a generated domain and problem pair.
+fn pair_problems(domain: &str, problem: &str) -> Vec<String> {
+    let mut host = AnalysisHost::new();
+    let d = host.set_file_text("/gen/domain.pddl", domain);
+    let p = host.set_file_text("/gen/problem.pddl", problem);
+    let analysis = host.analysis();
+    let mut diags = analysis.diagnostics(p).unwrap();
+    diags.extend(analysis.diagnostics(d).unwrap());
+    problems(&host, &diags)
+}
+
+#[test]
+fn airports_are_clean_deterministic_and_of_the_size_asked() {
+    let (d, p) = hipop_samplegen::airport::airport(0.3, DEFAULT_SEED);
+    assert_eq!((d.clone(), p.clone()), hipop_samplegen::airport::airport(0.3, DEFAULT_SEED));
+    let size = (d.len() + p.len()) as f64 / 1_048_576.0;
+    // The airport grows a runway segment at a time: within a quarter at this size.
+    assert!((0.225..=0.375).contains(&size), "{size} MiB");
+    assert!(d.matches(":durative-action move_").count() > 100);
+    assert_eq!(pair_problems(&d, &p), Vec::<String>::new());
+    // A broken copy is noticed: an airplane that is not declared.
+    let broken = p.replacen("(has-type airplane_a00", "(has-type airplane_zz", 1);
+    assert!(!pair_problems(&d, &broken).is_empty());
+
+    let set = hipop_samplegen::airport::airport_set(3, 0.3, DEFAULT_SEED);
+    let names: Vec<&str> = set.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "p01-domain.pddl",
+            "p01-airport.pddl",
+            "p02-domain.pddl",
+            "p02-airport.pddl",
+            "p03-domain.pddl",
+            "p03-airport.pddl"
+        ]
+    );
+    assert!(set[0].1.len() < set[4].1.len());
+    assert!(set[3].1.contains("(:domain p02-airport-domain)"));
+}
+
+#[test]
+fn satellite_time_problems_are_clean_and_of_the_size_asked() {
+    let (d, p) = hipop_samplegen::satgen::satellite_time(0.2, DEFAULT_SEED);
+    let size = p.len() as f64 / 1_048_576.0;
+    assert!((0.19..=0.21).contains(&size), "{size} MiB");
+    assert_eq!(pair_problems(&d, &p), Vec::<String>::new());
+    let broken = p.replacen("(= (slew_time ", "(= (slew_times ", 1);
+    assert!(!pair_problems(&d, &broken).is_empty());
+}

@@ -1,0 +1,210 @@
+//! Large problems of the IPC 2002 temporal Satellite domain (the `time`
+//! variant: turning and calibrating take the time of the `slew_time` and
+//! `calibration_time` fluents), in the manner of the competition's generator,
+//! for the throughput benchmarks of `hipop check`. The problem's size is
+//! dominated by the `slew_time` of every ordered pair of directions.
+
+use std::fmt::Write;
+
+use crate::rng::Rng;
+
+const MIB: f64 = 1_048_576.0;
+
+/// The Satellite domain with durations from fluents, as the competition
+/// wrote it.
+pub const DOMAIN: &str = "\
+; The IPC 2002 temporal Satellite domain, durations from fluents (satellite-time).
+(define (domain satellite)
+  (:requirements :strips :equality :typing :fluents :durative-actions)
+  (:types satellite direction instrument mode)
+  (:predicates
+    (on_board ?i - instrument ?s - satellite)
+    (supports ?i - instrument ?m - mode)
+    (pointing ?s - satellite ?d - direction)
+    (power_avail ?s - satellite)
+    (power_on ?i - instrument)
+    (calibrated ?i - instrument)
+    (have_image ?d - direction ?m - mode)
+    (calibration_target ?i - instrument ?d - direction))
+  (:functions (slew_time ?a ?b - direction)
+              (calibration_time ?a - instrument ?d - direction))
+
+  (:durative-action turn_to
+   :parameters (?s - satellite ?d_new - direction ?d_prev - direction)
+   :duration (= ?duration (slew_time ?d_prev ?d_new))
+   :condition (and (at start (pointing ?s ?d_prev))
+                   (over all (not (= ?d_new ?d_prev))))
+   :effect (and (at end (pointing ?s ?d_new))
+                (at start (not (pointing ?s ?d_prev)))))
+
+  (:durative-action switch_on
+   :parameters (?i - instrument ?s - satellite)
+   :duration (= ?duration 2)
+   :condition (and (over all (on_board ?i ?s))
+                   (at start (power_avail ?s)))
+   :effect (and (at end (power_on ?i))
+                (at start (not (calibrated ?i)))
+                (at start (not (power_avail ?s)))))
+
+  (:durative-action switch_off
+   :parameters (?i - instrument ?s - satellite)
+   :duration (= ?duration 1)
+   :condition (and (over all (on_board ?i ?s))
+                   (at start (power_on ?i)))
+   :effect (and (at start (not (power_on ?i)))
+                (at end (power_avail ?s))))
+
+  (:durative-action calibrate
+   :parameters (?s - satellite ?i - instrument ?d - direction)
+   :duration (= ?duration (calibration_time ?i ?d))
+   :condition (and (over all (on_board ?i ?s))
+                   (over all (calibration_target ?i ?d))
+                   (at start (pointing ?s ?d))
+                   (over all (power_on ?i))
+                   (at end (power_on ?i)))
+   :effect (at end (calibrated ?i)))
+
+  (:durative-action take_image
+   :parameters (?s - satellite ?d - direction ?i - instrument ?m - mode)
+   :duration (= ?duration 7)
+   :condition (and (over all (calibrated ?i))
+                   (over all (on_board ?i ?s))
+                   (over all (supports ?i ?m))
+                   (over all (power_on ?i))
+                   (over all (pointing ?s ?d))
+                   (at end (power_on ?i)))
+   :effect (at end (have_image ?d ?m)))
+)
+";
+
+const MODES: [&str; 3] = ["image", "spectrograph", "thermograph"];
+
+/// The smallest integer whose square is at least `n`, exactly.
+fn ceil_sqrt(n: u64) -> u64 {
+    let mut r = (n as f64).sqrt() as u64;
+    while r * r > n {
+        r -= 1;
+    }
+    while r * r < n {
+        r += 1;
+    }
+    r
+}
+
+/// A problem with `satellites` satellites and `directions` directions.
+fn problem(satellites: usize, directions: usize, seed: u64, command: &str) -> String {
+    let mut rng = Rng::new(seed);
+    let modes: Vec<String> = (0..6).map(|i| format!("{}{i}", MODES[i % MODES.len()])).collect();
+    // The first fifth of the directions are calibration targets.
+    let targets = (directions / 5).max(1);
+    let dirs: Vec<String> = (0..directions)
+        .map(|i| match (i < targets, i % 3) {
+            (true, 0) => format!("GroundStation{i}"),
+            (true, _) => format!("Star{i}"),
+            (false, 0) => format!("Planet{i}"),
+            (false, 1) => format!("Phenomenon{i}"),
+            (false, _) => format!("Star{i}"),
+        })
+        .collect();
+    // (satellite, supported modes, calibration target) per instrument.
+    let mut instruments = Vec::new();
+    for s in 0..satellites {
+        for _ in 0..rng.range(1, 3) {
+            let mut supported: Vec<usize> = (0..modes.len()).collect();
+            rng.shuffle(&mut supported);
+            supported.truncate(rng.range(1, 3) as usize);
+            supported.sort();
+            instruments.push((s, supported, rng.below(targets as u64) as usize));
+        }
+    }
+    let mut out = String::new();
+    writeln!(out, "; A generated problem of the IPC 2002 temporal Satellite domain (satellite-time):")
+        .unwrap();
+    writeln!(out, "; {satellites} satellites, {} instruments, {directions} directions.", instruments.len())
+        .unwrap();
+    writeln!(out, "; Generated by hipop-samplegen. Do not edit by hand; regenerate with:").unwrap();
+    writeln!(out, ";   {command}").unwrap();
+    writeln!(out, "(define (problem strips-sat-x-{seed})").unwrap();
+    writeln!(out, "(:domain satellite)").unwrap();
+    writeln!(out, "(:objects").unwrap();
+    for s in 0..satellites {
+        writeln!(out, "\tsatellite{s} - satellite").unwrap();
+        for (i, _) in instruments.iter().enumerate().filter(|(_, (sat, _, _))| *sat == s) {
+            writeln!(out, "\tinstrument{i} - instrument").unwrap();
+        }
+    }
+    for m in &modes {
+        writeln!(out, "\t{m} - mode").unwrap();
+    }
+    for d in &dirs {
+        writeln!(out, "\t{d} - direction").unwrap();
+    }
+    writeln!(out, ")").unwrap();
+    writeln!(out, "(:init").unwrap();
+    for s in 0..satellites {
+        for (i, (_, supported, target)) in instruments.iter().enumerate().filter(|(_, (sat, _, _))| *sat == s)
+        {
+            for &m in supported {
+                writeln!(out, "\t(supports instrument{i} {})", modes[m]).unwrap();
+            }
+            writeln!(out, "\t(calibration_target instrument{i} {})", dirs[*target]).unwrap();
+            writeln!(out, "\t(= (calibration_time instrument{i} {}) {})", dirs[*target], rng.range(10, 90))
+                .unwrap();
+            writeln!(out, "\t(on_board instrument{i} satellite{s})").unwrap();
+        }
+        writeln!(out, "\t(power_avail satellite{s})").unwrap();
+        writeln!(out, "\t(pointing satellite{s} {})", dirs[rng.below(directions as u64) as usize]).unwrap();
+    }
+    // Directions are points of a 100 × 100 square; turning takes a second
+    // plus the distance, rounded up to hundredths: rounding up keeps the
+    // triangle inequality (a direct turn is never slower than two).
+    let at: Vec<(i64, i64)> = (0..directions).map(|_| (rng.range(0, 100), rng.range(0, 100))).collect();
+    for (a, da) in dirs.iter().enumerate() {
+        for (b, db) in dirs.iter().enumerate() {
+            if a != b {
+                let (dx, dy) = (at[a].0 - at[b].0, at[a].1 - at[b].1);
+                let t = 100 + ceil_sqrt(((dx * dx + dy * dy) * 10_000) as u64);
+                writeln!(out, "\t(= (slew_time {da} {db}) {}.{:02})", t / 100, t % 100).unwrap();
+            }
+        }
+    }
+    writeln!(out, ")").unwrap();
+    writeln!(out, "(:goal (and").unwrap();
+    for s in 0..satellites {
+        if rng.below(3) == 0 {
+            writeln!(out, "\t(pointing satellite{s} {})", dirs[rng.below(directions as u64) as usize])
+                .unwrap();
+        }
+    }
+    for d in &dirs[targets..] {
+        if rng.below(2) == 0 {
+            let (_, supported, _) = &instruments[rng.below(instruments.len() as u64) as usize];
+            let m = supported[rng.below(supported.len() as u64) as usize];
+            writeln!(out, "\t(have_image {d} {})", modes[m]).unwrap();
+        }
+    }
+    writeln!(out, "))").unwrap();
+    writeln!(out, "(:metric minimize (total-time))").unwrap();
+    writeln!(out, ")").unwrap();
+    out
+}
+
+/// The domain and a problem of about `size_mb` MiB with ten satellites.
+pub fn satellite_time(size_mb: f64, seed: u64) -> (String, String) {
+    let command = format!(
+        "cargo run --release -p hipop-samplegen -- satellite-time --size-mb {size_mb} --seed {seed} --out DIR"
+    );
+    let target = size_mb * MIB;
+    // About 40 bytes per pair of directions.
+    let mut directions = ((target / 40.0).sqrt() as usize).max(2);
+    let mut text = problem(10, directions, seed, &command);
+    for _ in 0..4 {
+        let ratio = target / text.len() as f64;
+        if (0.99..=1.01).contains(&ratio) {
+            break;
+        }
+        directions = ((directions as f64 * ratio.sqrt()).round() as usize).max(2);
+        text = problem(10, directions, seed, &command);
+    }
+    (DOMAIN.to_string(), text)
+}
