@@ -13,7 +13,7 @@
 //! chain. Property 6 (the triangle inequality) then holds by construction.
 
 use crate::db::{Db, Unit};
-use crate::verify::families::families as confirmed_families;
+use crate::verify::families::planner_families as confirmed_families;
 
 use super::task::{End, MotionGroup, Task, atom_of, is_neg};
 

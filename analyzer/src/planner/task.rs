@@ -26,7 +26,7 @@ use crate::model::{
 };
 use crate::semantics::check::{domain_for, gd_span};
 use crate::semantics::symbols::Loc;
-use crate::verify::ground::{Ground, Limits, MethodEvent, ground, visit_methods};
+use crate::verify::ground::{Ground, Limits, MethodEvent, ground_relevant, visit_methods};
 use crate::verify::lifted::OperatorKind;
 use crate::verify::state::{AtomId, ObjId, PredId};
 
@@ -490,10 +490,10 @@ pub fn compile<'db>(
         return Err(Vec::new());
     }
     let Some(domain) = domain_for(db, problem) else { return Err(none("a problem without its domain")) };
-    let g: &'db Ground<'db> = ground(db, problem);
+    let g: &'db Ground<'db> = ground_relevant(db, problem);
     let mut c = Compiler { db, g, unsupported: Vec::new(), goal: false };
     if g.truncated {
-        return Err(none("a problem whose grounding exceeds hipop's limits (too many ground actions)"));
+        return Err(none(&too_large(g)));
     }
 
     // Problem sections.
@@ -640,7 +640,7 @@ pub fn compile<'db>(
 
     // Methods.
     let mut methods: Vec<MethodInst<'db>> = Vec::new();
-    let method_limits = Limits { method_instances: limits.method_instances, ..Limits::DEFAULT };
+    let method_limits = Limits { method_instances: limits.method_instances, ..Limits::PLANNER };
     let mut truncated: Vec<Item<'db>> = Vec::new();
     let mut cache: FxHashMap<Item<'db>, Option<&'db Method>> = FxHashMap::default();
     visit_methods(db, problem, g, method_limits, &mut |event| match event {
@@ -818,6 +818,74 @@ pub fn compile<'db>(
     super::motion::families(db, problem, &mut task);
     task.index_effects();
     Ok(task)
+}
+
+/// What a grounding past its limits says: how far it got, and the action or
+/// task whose candidate instances dominate.
+fn too_large(g: &Ground<'_>) -> String {
+    let relevant = if g.relevance { "reachable and relevant" } else { "reachable" };
+    let stopped = if g.tried >= g.limits.candidates {
+        format!(
+            "grounding stopped at its limit of {} parameter values tried, with {} instances found",
+            thousands(g.limits.candidates as f64),
+            thousands(g.operators.len() as f64)
+        )
+    } else {
+        format!("grounding stopped at its limit of {} ground instances", thousands(g.limits.operators as f64))
+    };
+    let mut text = format!("a problem whose {relevant} ground model exceeds hipop's limits: {stopped}");
+    let dominant =
+        g.schemas.iter().max_by(|a, b| a.candidate_instances().total_cmp(&b.candidate_instances()));
+    if let Some(s) = dominant.filter(|s| s.candidate_instances() > 0.0) {
+        let factors: Vec<String> = s.candidates.iter().map(|c| c.to_string()).collect();
+        text.push_str(&format!(
+            "; `{}` dominates, with up to {} instances ({} objects for its parameters), {} of them found",
+            s.name,
+            approx(s.candidate_instances()),
+            factors.join(" × "),
+            thousands(f64::from(s.end - s.start)),
+        ));
+    }
+    text
+}
+
+/// `1234567` as `1,234,567`.
+fn thousands(x: f64) -> String {
+    let digits = format!("{:.0}", x.max(0.0));
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// A count that may be huge: exact up to a billion, then `8.1 × 10⁹`.
+fn approx(x: f64) -> String {
+    if x < 1e9 {
+        return thousands(x);
+    }
+    let exp = x.log10().floor() as i32;
+    let mantissa = x / 10f64.powi(exp);
+    let sup: String = exp
+        .to_string()
+        .chars()
+        .map(|c| match c {
+            '0' => '⁰',
+            '1' => '¹',
+            '2' => '²',
+            '3' => '³',
+            '4' => '⁴',
+            '5' => '⁵',
+            '6' => '⁶',
+            '7' => '⁷',
+            '8' => '⁸',
+            _ => '⁹',
+        })
+        .collect();
+    format!("{mantissa:.1} × 10{sup}")
 }
 
 /// The orderings of a task network over its subtasks' indices.

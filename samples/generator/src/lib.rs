@@ -1,7 +1,8 @@
 //! Deterministic generator of hipop sample missions: the surveillance mission
 //! of the HiPOP case study, scaled-up variants for throughput benchmarks, the
-//! Survivors benchmark of the paper (with witness plans), and the IPC 2002
-//! Satellite problems with abstract actions. The same arguments always give
+//! Survivors benchmark of the paper (with witness plans), the IPC 2002
+//! Satellite problems with abstract actions, and the wide-action problem
+//! (grounding by relevance). The same arguments always give
 //! the same bytes.
 
 mod emit;
@@ -9,7 +10,10 @@ mod geo;
 mod rng;
 pub mod satellite;
 pub mod survivors;
+mod wide;
 mod world;
+
+pub use wide::wide_action;
 
 use emit::Provenance;
 use world::{Params, World};
