@@ -821,7 +821,8 @@ pub fn compile<'db>(
 }
 
 /// What a grounding past its limits says: how far it got, and the action or
-/// task whose candidate instances dominate.
+/// task that dominates, with how many instances its parameters' candidate
+/// objects allow.
 fn too_large(g: &Ground<'_>) -> String {
     let relevant = if g.relevance { "reachable and relevant" } else { "reachable" };
     let stopped = if g.tried >= g.limits.candidates {
@@ -834,8 +835,13 @@ fn too_large(g: &Ground<'_>) -> String {
         format!("grounding stopped at its limit of {} ground instances", thousands(g.limits.operators as f64))
     };
     let mut text = format!("a problem whose {relevant} ground model exceeds hipop's limits: {stopped}");
-    let dominant =
-        g.schemas.iter().max_by(|a, b| a.candidate_instances().total_cmp(&b.candidate_instances()));
+    // The action or task with the most instances found; before any is
+    // found, the one whose parameters allow the most.
+    let dominant = g.schemas.iter().max_by(|a, b| {
+        (a.end - a.start)
+            .cmp(&(b.end - b.start))
+            .then(a.candidate_instances().total_cmp(&b.candidate_instances()))
+    });
     if let Some(s) = dominant.filter(|s| s.candidate_instances() > 0.0) {
         let factors: Vec<String> = s.candidates.iter().map(|c| c.to_string()).collect();
         text.push_str(&format!(

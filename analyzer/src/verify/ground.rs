@@ -548,7 +548,8 @@ pub fn ground_with_relevance<'db>(
 
 /// The goal as [`super::relevance`] reads it, or `None` when relevance
 /// cannot be applied soundly: a task network or methods (decomposition
-/// needs what methods give, not what the goal needs), derived predicates,
+/// needs what methods give, not what the goal needs), timed initial
+/// literals (a step may be needed only to last past one), derived predicates,
 /// PDDL 3 constraints or preferences, processes and events, or an operator
 /// with a construct the STRIPS view leaves out (a disjunctive or quantified
 /// condition, a conditional or quantified effect, an object fluent) other
@@ -565,7 +566,10 @@ fn relevance_goal<'db>(
             matches!(i.section(db), Section::Method | Section::Derived | Section::Htn | Section::Constraints)
         })
     };
-    if blocked(domain) || blocked(problem) {
+    // Timed initial literals: VAL applies none after a plan's last
+    // happening, so a goal a literal makes true needs some step, any step,
+    // that ends after it (tests/planner/props/goal-made-by-a-late-timed-literal.pddl).
+    if blocked(domain) || blocked(problem) || !g.init.timed.is_empty() {
         return None;
     }
     for (item, op) in ops {
@@ -1167,6 +1171,39 @@ mod tests {
             assert_eq!(instances(g), ["(go a)", "(go b)"]);
             assert!(g.operators.iter().all(|o| o.unsupported && g.pre(o).is_empty()));
             assert!(g.untracked_preds[g.predicates.get("ready").unwrap() as usize]);
+        });
+    }
+
+    #[test]
+    fn the_planner_grounds_only_what_the_goal_may_need() {
+        // `hold`'s `over all (p ?y)` is left out of its lifted preconditions
+        // (its start may add it, when `?x` is `?y`); relevance still needs
+        // `(p b)` for `(hold a b)`, hence `(make b)`.
+        let d = "(define (domain g) (:requirements :durative-actions :typing)
+          (:types s t)
+          (:predicates (p ?a) (q ?a) (done ?a ?b))
+          (:durative-action hold :parameters (?x - s ?y - t) :duration (= ?duration 1)
+            :condition (over all (p ?y)) :effect (and (at start (p ?x)) (at end (done ?x ?y))))
+          (:action make :parameters (?z) :effect (p ?z))
+          (:action noise :parameters (?z) :effect (q ?z)))";
+        let p = "(define (problem p) (:domain g) (:objects a - s b - t) (:init) (:goal (done a b)))";
+        with_problem(d, p, |db, unit| {
+            assert_eq!(instances(ground(db, unit)).len(), 5);
+            let g = ground_relevant(db, unit);
+            assert!(g.relevance && !g.truncated);
+            assert_eq!(instances(g), ["(hold a b)", "(make b)"]);
+            assert_eq!(g.schemas[2].candidates, [0]);
+        });
+        // A goal on the negation, in a disjunction: the deleters matter too.
+        let d = "(define (domain h) (:requirements :negative-preconditions :disjunctive-preconditions)
+          (:predicates (p ?a) (q ?a))
+          (:action set :parameters (?z) :effect (p ?z))
+          (:action unset :parameters (?z) :effect (not (p ?z)))
+          (:action noise :parameters (?z) :effect (q ?z)))";
+        let p = "(define (problem p) (:domain h) (:objects a b) (:init (p a))
+          (:goal (or (not (p a)) (q b))))";
+        with_problem(d, p, |db, unit| {
+            assert_eq!(instances(ground_relevant(db, unit)), ["(noise b)", "(set a)", "(unset a)"]);
         });
     }
 
