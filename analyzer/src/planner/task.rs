@@ -641,10 +641,13 @@ pub fn compile<'db>(
     // Methods.
     let mut methods: Vec<MethodInst<'db>> = Vec::new();
     let method_limits = Limits { method_instances: limits.method_instances, ..Limits::PLANNER };
-    let mut truncated: Vec<Item<'db>> = Vec::new();
+    let mut truncated: Vec<(Item<'db>, usize)> = Vec::new();
     let mut cache: FxHashMap<Item<'db>, Option<&'db Method>> = FxHashMap::default();
+    // Instances of the method being visited, to say why it was cut.
+    let mut visited = 0usize;
     visit_methods(db, problem, g, method_limits, &mut |event| match event {
         MethodEvent::Instance(m) => {
+            visited += 1;
             let method = *cache.entry(m.method).or_insert_with(|| match &lower_item(db, m.method).data {
                 ItemData::Method(me) => Some(&**me),
                 _ => None,
@@ -685,15 +688,31 @@ pub fn compile<'db>(
                 pre,
             });
         }
-        MethodEvent::Done(_) => {}
-        MethodEvent::Truncated(item) => truncated.push(item),
+        MethodEvent::Done(_) => visited = 0,
+        MethodEvent::Truncated(item) => {
+            truncated.push((item, visited));
+            visited = 0;
+        }
         MethodEvent::Skipped(item) => {
+            visited = 0;
             c.unsupported(item, rowan::TextRange::default(), "method terms grounding cannot name")
         }
     });
-    for item in truncated {
+    for (item, found) in truncated {
         if let ItemData::Method(m) = &lower_item(db, item).data {
-            c.unsupported(item, m.name.span, "a method with more ground instances than hipop's limit");
+            let what = if found >= method_limits.method_instances {
+                format!(
+                    "a method with more ground instances than hipop's limit of {}",
+                    thousands(method_limits.method_instances as f64)
+                )
+            } else {
+                format!(
+                    "a method whose grounding ran past hipop's limit of {} parameter values tried ({} instances found)",
+                    thousands(method_limits.candidates as f64),
+                    thousands(found as f64)
+                )
+            };
+            c.unsupported(item, m.name.span, &what);
         }
     }
     for &item in domain.items(db).iter().filter(|i| i.section(db) == Section::Method) {
