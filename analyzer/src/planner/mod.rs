@@ -204,6 +204,11 @@ pub struct PlannerLimits {
     /// plans one by one takes seconds (1.1 s for 234,000 plans, 2.3 GB),
     /// past the time limit; the exit returns the memory at once.
     pub exits_after: bool,
+    /// Ground only the instances relevant to the goal
+    /// ([`crate::verify::ground::ground_relevant`]). A repair grounds every
+    /// reachable one: the old plan's steps, executed ones included, keep
+    /// their instances even when the new goal does not need them.
+    pub goal_relevance: bool,
 }
 
 impl Default for PlannerLimits {
@@ -216,6 +221,7 @@ impl Default for PlannerLimits {
             method_instances: 1_000_000,
             time_spent: Duration::ZERO,
             exits_after: false,
+            goal_relevance: true,
         }
     }
 }

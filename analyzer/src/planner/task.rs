@@ -26,7 +26,7 @@ use crate::model::{
 };
 use crate::semantics::check::{domain_for, gd_span};
 use crate::semantics::symbols::Loc;
-use crate::verify::ground::{Ground, Limits, MethodEvent, ground_relevant, visit_methods};
+use crate::verify::ground::{Ground, Limits, MethodEvent, ground_planner, ground_relevant, visit_methods};
 use crate::verify::lifted::OperatorKind;
 use crate::verify::state::{AtomId, ObjId, PredId};
 
@@ -207,6 +207,8 @@ pub struct Task<'db> {
     /// [`Task::index_effects`]; then a step whose bits share none with a
     /// link's cannot threaten it.
     pub op_touches: Vec<u64>,
+    /// `g` is [`ground_relevant`]'s (else [`ground_planner`]'s).
+    pub goal_relevance: bool,
 }
 
 impl<'db> Task<'db> {
@@ -490,7 +492,8 @@ pub fn compile<'db>(
         return Err(Vec::new());
     }
     let Some(domain) = domain_for(db, problem) else { return Err(none("a problem without its domain")) };
-    let g: &'db Ground<'db> = ground_relevant(db, problem);
+    let g: &'db Ground<'db> =
+        if limits.goal_relevance { ground_relevant(db, problem) } else { ground_planner(db, problem) };
     let mut c = Compiler { db, g, unsupported: Vec::new(), goal: false };
     if g.truncated {
         return Err(none(&too_large(g)));
@@ -818,6 +821,7 @@ pub fn compile<'db>(
 
     let mut task = Task {
         g,
+        goal_relevance: limits.goal_relevance,
         problem,
         ops,
         methods,

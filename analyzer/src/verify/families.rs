@@ -109,6 +109,12 @@ pub fn planner_families<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Families<'d
     families_over(db, problem, super::ground::ground_relevant(db, problem))
 }
 
+/// The position families over [`super::ground::ground_planner`] (a repair's).
+#[salsa::tracked(returns(ref))]
+pub fn reachable_planner_families<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Families<'db> {
+    families_over(db, problem, super::ground::ground_planner(db, problem))
+}
+
 fn families_over<'db>(db: &'db dyn Db, problem: Unit<'db>, g: &Ground<'db>) -> Families<'db> {
     let mut out = Families::default();
     let Some(domain) = crate::semantics::check::domain_for(db, problem) else { return out };

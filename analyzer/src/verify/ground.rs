@@ -249,6 +249,14 @@ pub fn ground_relevant<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Ground<'db> 
     ground_with_relevance(db, problem, Limits::PLANNER, true)
 }
 
+/// Grounds a problem for the planner without goal relevance: every
+/// reachable instance, within [`Limits::PLANNER`] (a plan repair reads the
+/// old plan's steps against it).
+#[salsa::tracked(returns(ref))]
+pub fn ground_planner<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Ground<'db> {
+    ground_with_relevance(db, problem, Limits::PLANNER, false)
+}
+
 /// Grounds a problem within `limits`. An empty result for what is not a
 /// problem with a known domain.
 pub fn ground_with<'db>(db: &'db dyn Db, problem: Unit<'db>, limits: Limits) -> Ground<'db> {
