@@ -529,3 +529,45 @@ fn plans_switch_each_instrument_on_once() {
     assert_eq!((switches("switch_on"), switches("switch_off")), (2, 1), "{val}");
     assert_eq!(removable_steps(&mut host, &problem, plan), Vec::<String>::new(), "{val}");
 }
+
+/// Plans a problem given as texts (domain, problem).
+fn plan_texts(files: &(String, String), limits: &PlannerLimits) -> (AnalysisHost, PathBuf, PlanningResult) {
+    let mut host = AnalysisHost::new();
+    host.set_file_text("wide/domain.pddl", files.0.clone());
+    let fp = host.set_file_text("wide/problem.pddl", files.1.clone());
+    let result = host
+        .analysis()
+        .run_planner(fp, &Config::default(), limits, &|| false, &mut |_| {})
+        .expect("not cancelled")
+        .expect("a problem");
+    (host, PathBuf::from("wide/problem.pddl"), result)
+}
+
+/// One action with four parameters over 300 objects (8.1 × 10⁹ instances,
+/// all reachable) and a goal that needs one: grounding keeps only what the
+/// goal may need, one instance, instead of refusing the problem (E0501).
+#[test]
+fn a_wide_action_is_grounded_where_the_goal_needs_it() {
+    let files = hipop_samplegen::wide_action(300, false);
+    let (mut host, path, result) = plan_texts(&files, &limits(10));
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &path, &result);
+    let plan = result.plan.as_ref().expect("a plan");
+    assert_eq!(
+        plan.to_val("t").lines().filter(|l| !l.starts_with(';')).collect::<Vec<_>>(),
+        ["0: (link n300 n299 n298 n297)"]
+    );
+}
+
+/// When the goal needs every instance, relevance leaves them all: the
+/// planner refuses the problem and says how big its ground model is and
+/// which action makes it so.
+#[test]
+fn a_ground_model_past_the_limits_says_how_big_it_is() {
+    let files = hipop_samplegen::wide_action(300, true);
+    let (_, _, result) = plan_texts(&files, &limits(10));
+    assert_eq!(result.status, Status::Refused);
+    let messages: Vec<String> =
+        result.diagnostics.iter().map(|d| format!("{} {}", d.code.id, d.message)).collect();
+    insta::assert_snapshot!("wide-action-every-instance-refused", messages.join("\n"));
+}

@@ -661,3 +661,32 @@ fn the_steps_kept_keep_their_old_times_unless_a_deadline_forbids_it() {
     let plan = result.plan.as_ref().unwrap();
     assert_eq!(timed(plan), ["0.000 (set-up c1)", "2.010 (drill z2)", "6.020 (photograph c1 z3)"]);
 }
+
+/// An executed step the goal does not need stays: the planner grounds only
+/// what the goal may need, but a repair grounds every reachable instance,
+/// so the old plan's steps keep theirs. With goal relevance, `(wander a)`
+/// had no instance and was removed as obsolete, executed or not.
+#[test]
+fn an_executed_step_the_goal_does_not_need_stays() {
+    let text = "(define (domain d) (:requirements :strips)
+           (:predicates (walked ?x) (done))
+           (:action wander :parameters (?x) :precondition (and) :effect (walked ?x))
+           (:action finish :parameters () :precondition (and) :effect (done)))
+         (define (problem pr) (:domain d) (:objects a) (:init) (:goal (done)))";
+    let mut host = AnalysisHost::new();
+    let p = host.set_file_text("problem.pddl", text.to_string());
+    let old = host.set_file_text("old.plan", "0: (wander a)\n0.5: (finish)\n".to_string());
+    let limits = PlannerLimits { time: Some(std::time::Duration::from_secs(30)), ..PlannerLimits::default() };
+    let options = RepairOptions {
+        execution: hipop_analyzer::repair::Execution { now: Some(0.2), ..Default::default() },
+        ..RepairOptions::default()
+    };
+    let result = host
+        .analysis()
+        .run_repair(p, old, None, &Config::default(), &limits, &options, &|| false, &mut |_| {})
+        .unwrap()
+        .unwrap();
+    assert_eq!(result.status, Status::Solved, "{:?}", result.stages);
+    assert!(result.removed.iter().all(|r| r.why != Why::NoOperator), "{:?}", result.removed);
+    assert!(primitive(&result).contains(&"(wander a)".to_string()), "{:?}", primitive(&result));
+}

@@ -205,13 +205,18 @@ pub struct PlannerLimits {
     /// past the time limit; the exit returns the memory at once.
     pub exits_after: bool,
     /// Return the first plan found. Without it the search goes on within
-    /// the limits for plans of smaller cost (makespan, then steps), with
-    /// the best plan found as a bound, and returns the best; it ends early
-    /// when no plan left in the open list can do better by its `f`.
+    /// the limits for better plans ([`Quality`]: a shorter makespan, then
+    /// fewer steps), with the best plan found as a bound, and returns the
+    /// best; it ends early when the bound empties the open list.
     pub first: bool,
     /// Only plans better than this are returned (a plan this good is
     /// known): partial plans whose schedule is already as long are dropped.
     pub better_than: Option<Quality>,
+    /// Ground only the instances relevant to the goal
+    /// ([`crate::verify::ground::ground_relevant`]). A repair grounds every
+    /// reachable one: the old plan's steps, executed ones included, keep
+    /// their instances even when the new goal does not need them.
+    pub goal_relevance: bool,
 }
 
 impl Default for PlannerLimits {
@@ -226,6 +231,7 @@ impl Default for PlannerLimits {
             exits_after: false,
             first: true,
             better_than: None,
+            goal_relevance: true,
         }
     }
 }

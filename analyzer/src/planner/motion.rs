@@ -13,14 +13,18 @@
 //! chain. Property 6 (the triangle inequality) then holds by construction.
 
 use crate::db::{Db, Unit};
-use crate::verify::families::families as confirmed_families;
+use crate::verify::families::{planner_families, reachable_planner_families};
 
 use super::task::{End, MotionGroup, Task, atom_of, is_neg};
 
 /// Fills the family and motion tables of `task`.
 pub(super) fn families<'db>(db: &'db dyn Db, problem: Unit<'db>, task: &mut Task<'db>) {
     let g = task.g;
-    let fams = confirmed_families(db, problem);
+    let fams = if task.goal_relevance {
+        planner_families(db, problem)
+    } else {
+        reachable_planner_families(db, problem)
+    };
     let mut group_keys: rustc_hash::FxHashMap<(u32, Vec<u32>), u32> = Default::default();
     let mut groups: Vec<(Vec<u32>, bool)> = Vec::new(); // positions, has moves
     for f in &fams.confirmed {

@@ -26,7 +26,7 @@ use crate::model::{
 };
 use crate::semantics::check::{domain_for, gd_span};
 use crate::semantics::symbols::Loc;
-use crate::verify::ground::{Ground, Limits, MethodEvent, ground, visit_methods};
+use crate::verify::ground::{Ground, Limits, MethodEvent, ground_planner, ground_relevant, visit_methods};
 use crate::verify::lifted::OperatorKind;
 use crate::verify::state::{AtomId, ObjId, PredId};
 
@@ -207,6 +207,8 @@ pub struct Task<'db> {
     /// [`Task::index_effects`]; then a step whose bits share none with a
     /// link's cannot threaten it.
     pub op_touches: Vec<u64>,
+    /// `g` is [`ground_relevant`]'s (else [`ground_planner`]'s).
+    pub goal_relevance: bool,
 }
 
 impl<'db> Task<'db> {
@@ -490,10 +492,11 @@ pub fn compile<'db>(
         return Err(Vec::new());
     }
     let Some(domain) = domain_for(db, problem) else { return Err(none("a problem without its domain")) };
-    let g: &'db Ground<'db> = ground(db, problem);
+    let g: &'db Ground<'db> =
+        if limits.goal_relevance { ground_relevant(db, problem) } else { ground_planner(db, problem) };
     let mut c = Compiler { db, g, unsupported: Vec::new(), goal: false };
     if g.truncated {
-        return Err(none("a problem whose grounding exceeds hipop's limits (too many ground actions)"));
+        return Err(none(&too_large(g)));
     }
 
     // Problem sections.
@@ -640,11 +643,14 @@ pub fn compile<'db>(
 
     // Methods.
     let mut methods: Vec<MethodInst<'db>> = Vec::new();
-    let method_limits = Limits { method_instances: limits.method_instances, ..Limits::DEFAULT };
-    let mut truncated: Vec<Item<'db>> = Vec::new();
+    let method_limits = Limits { method_instances: limits.method_instances, ..Limits::PLANNER };
+    let mut truncated: Vec<(Item<'db>, usize)> = Vec::new();
     let mut cache: FxHashMap<Item<'db>, Option<&'db Method>> = FxHashMap::default();
+    // Instances of the method being visited, to say why it was cut.
+    let mut visited = 0usize;
     visit_methods(db, problem, g, method_limits, &mut |event| match event {
         MethodEvent::Instance(m) => {
+            visited += 1;
             let method = *cache.entry(m.method).or_insert_with(|| match &lower_item(db, m.method).data {
                 ItemData::Method(me) => Some(&**me),
                 _ => None,
@@ -685,15 +691,31 @@ pub fn compile<'db>(
                 pre,
             });
         }
-        MethodEvent::Done(_) => {}
-        MethodEvent::Truncated(item) => truncated.push(item),
+        MethodEvent::Done(_) => visited = 0,
+        MethodEvent::Truncated(item) => {
+            truncated.push((item, visited));
+            visited = 0;
+        }
         MethodEvent::Skipped(item) => {
+            visited = 0;
             c.unsupported(item, rowan::TextRange::default(), "method terms grounding cannot name")
         }
     });
-    for item in truncated {
+    for (item, found) in truncated {
         if let ItemData::Method(m) = &lower_item(db, item).data {
-            c.unsupported(item, m.name.span, "a method with more ground instances than hipop's limit");
+            let what = if found >= method_limits.method_instances {
+                format!(
+                    "a method with more ground instances than hipop's limit of {}",
+                    thousands(method_limits.method_instances as f64)
+                )
+            } else {
+                format!(
+                    "a method whose grounding ran past hipop's limit of {} parameter values tried ({} instances found)",
+                    thousands(method_limits.candidates as f64),
+                    thousands(found as f64)
+                )
+            };
+            c.unsupported(item, m.name.span, &what);
         }
     }
     for &item in domain.items(db).iter().filter(|i| i.section(db) == Section::Method) {
@@ -799,6 +821,7 @@ pub fn compile<'db>(
 
     let mut task = Task {
         g,
+        goal_relevance: limits.goal_relevance,
         problem,
         ops,
         methods,
@@ -818,6 +841,80 @@ pub fn compile<'db>(
     super::motion::families(db, problem, &mut task);
     task.index_effects();
     Ok(task)
+}
+
+/// What a grounding past its limits says: how far it got, and the action or
+/// task that dominates, with how many instances its parameters' candidate
+/// objects allow.
+fn too_large(g: &Ground<'_>) -> String {
+    let relevant = if g.relevance { "reachable and relevant" } else { "reachable" };
+    let stopped = if g.tried >= g.limits.candidates {
+        format!(
+            "grounding stopped at its limit of {} parameter values tried, with {} instances found",
+            thousands(g.limits.candidates as f64),
+            thousands(g.operators.len() as f64)
+        )
+    } else {
+        format!("grounding stopped at its limit of {} ground instances", thousands(g.limits.operators as f64))
+    };
+    let mut text = format!("a problem whose {relevant} ground model exceeds hipop's limits: {stopped}");
+    // The action or task with the most instances found; before any is
+    // found, the one whose parameters allow the most.
+    let dominant = g.schemas.iter().max_by(|a, b| {
+        (a.end - a.start)
+            .cmp(&(b.end - b.start))
+            .then(a.candidate_instances().total_cmp(&b.candidate_instances()))
+    });
+    if let Some(s) = dominant.filter(|s| s.candidate_instances() > 0.0) {
+        let factors: Vec<String> = s.candidates.iter().map(|c| c.to_string()).collect();
+        text.push_str(&format!(
+            "; `{}` dominates, with up to {} instances ({} objects for its parameters), {} of them found",
+            s.name,
+            approx(s.candidate_instances()),
+            factors.join(" × "),
+            thousands(f64::from(s.end - s.start)),
+        ));
+    }
+    text
+}
+
+/// `1234567` as `1,234,567`.
+fn thousands(x: f64) -> String {
+    let digits = format!("{:.0}", x.max(0.0));
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// A count that may be huge: exact up to a billion, then `8.1 × 10⁹`.
+fn approx(x: f64) -> String {
+    if x < 1e9 {
+        return thousands(x);
+    }
+    let exp = x.log10().floor() as i32;
+    let mantissa = x / 10f64.powi(exp);
+    let sup: String = exp
+        .to_string()
+        .chars()
+        .map(|c| match c {
+            '0' => '⁰',
+            '1' => '¹',
+            '2' => '²',
+            '3' => '³',
+            '4' => '⁴',
+            '5' => '⁵',
+            '6' => '⁶',
+            '7' => '⁷',
+            '8' => '⁸',
+            _ => '⁹',
+        })
+        .collect();
+    format!("{mantissa:.1} × 10{sup}")
 }
 
 /// The orderings of a task network over its subtasks' indices.

@@ -223,6 +223,8 @@ pub fn repair<'db>(
     progress: &mut dyn FnMut(&Progress),
 ) -> RepairOutcome<'db> {
     let started = Instant::now();
+    // Every reachable instance: the old plan's steps keep theirs.
+    let limits = &PlannerLimits { goal_relevance: false, ..limits.clone() };
     let mut prepared = match prepare(db, problem, config, limits) {
         Ok(p) => p,
         Err(outcome) => {

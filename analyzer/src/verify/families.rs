@@ -98,9 +98,26 @@ const DETOURS_SHOWN: usize = 20;
 /// The position families of a problem, with the lints of their move actions.
 #[salsa::tracked(returns(ref))]
 pub fn families<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Families<'db> {
+    families_over(db, problem, ground(db, problem))
+}
+
+/// The position families over the planner's grounding
+/// ([`super::ground::ground_relevant`]): confirmed on the operators the
+/// planner has, with the same predicate ids.
+#[salsa::tracked(returns(ref))]
+pub fn planner_families<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Families<'db> {
+    families_over(db, problem, super::ground::ground_relevant(db, problem))
+}
+
+/// The position families over [`super::ground::ground_planner`] (a repair's).
+#[salsa::tracked(returns(ref))]
+pub fn reachable_planner_families<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Families<'db> {
+    families_over(db, problem, super::ground::ground_planner(db, problem))
+}
+
+fn families_over<'db>(db: &'db dyn Db, problem: Unit<'db>, g: &Ground<'db>) -> Families<'db> {
     let mut out = Families::default();
     let Some(domain) = crate::semantics::check::domain_for(db, problem) else { return out };
-    let g = ground(db, problem);
     if g.truncated {
         // An incomplete set of ground operators cannot confirm anything.
         return out;

@@ -32,9 +32,10 @@ use super::instantiate::{
     Arg, CAtom, Compiler, Facts, OpInput, Preds, Stop, fixpoint, instances_over, value,
 };
 use super::lifted::{Duration, LTerm, OperatorKind, method_schema, operator};
+use super::relevance::{Goal as RelGoal, GoalAtom, RelOp};
 use super::state::{AtomId, Atoms, FuncId, InitialState, Interner, ObjId, Objects, PredId, initial_state};
 use crate::db::{Db, Item, Section, Unit, UnitKind, lower_item};
-use crate::model::{Effect, ItemData, Str};
+use crate::model::{ActionKind, Effect, Gd, ItemData, NumExpr, Str, Term};
 use crate::semantics::check::domain_for;
 use crate::semantics::symbols::{Loc, domain_symbols, problem_symbols};
 
@@ -50,8 +51,23 @@ pub struct Limits {
 }
 
 impl Limits {
+    /// The lints': they run on every edit, so grounding stays well under a
+    /// second.
     pub const DEFAULT: Limits =
         Limits { candidates: 2_000_000, operators: 200_000, method_instances: 10_000 };
+    /// The planner's ([`ground_relevant`]): a run is given seconds, and the
+    /// model it grounds is what it searches, so only a model too large to
+    /// search stops it (the candidates tried are work, not the model's size:
+    /// Depots hand-coded instance 2 has 150,440 reachable instances found
+    /// in 2.3 million candidates).
+    pub const PLANNER: Limits =
+        Limits { candidates: 20_000_000, operators: 500_000, method_instances: 10_000 };
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits::DEFAULT
+    }
 }
 
 /// One instance of an action or a task. Its lists (arguments, preconditions,
@@ -94,6 +110,17 @@ pub struct Schema<'db> {
     /// variable, an object fluent): any atom of them may become true.
     pub wild_add: Vec<PredId>,
     pub unsupported: bool,
+    /// How many objects each parameter may take: its types', less what
+    /// goal relevance rules out (when the grounding applies it).
+    pub candidates: Vec<u32>,
+}
+
+impl Schema<'_> {
+    /// The product of [`Schema::candidates`]: how many instances grounding
+    /// could find at most.
+    pub fn candidate_instances(&self) -> f64 {
+        self.candidates.iter().map(|&c| f64::from(c)).product()
+    }
 }
 
 /// The ground problem.
@@ -125,6 +152,11 @@ pub struct Ground<'db> {
     pub duration_issues: Vec<DurationIssue<'db>>,
     /// Grounding stopped at a limit: `operators` is incomplete.
     pub truncated: bool,
+    /// The limits it ran with, and how many parameter values it tried.
+    pub limits: Limits,
+    pub tried: u64,
+    /// Only the instances relevant to the goal were kept ([`ground_relevant`]).
+    pub relevance: bool,
 }
 
 impl<'db> Ground<'db> {
@@ -208,10 +240,40 @@ pub fn ground<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Ground<'db> {
     ground_with(db, problem, Limits::DEFAULT)
 }
 
+/// Grounds a problem for the planner: the instances that are reachable and
+/// relevant to the goal ([`super::relevance`]), within [`Limits::PLANNER`].
+/// The lints keep [`ground`]: an instance irrelevant to this goal is still
+/// one the domain allows.
+#[salsa::tracked(returns(ref))]
+pub fn ground_relevant<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Ground<'db> {
+    ground_with_relevance(db, problem, Limits::PLANNER, true)
+}
+
+/// Grounds a problem for the planner without goal relevance: every
+/// reachable instance, within [`Limits::PLANNER`] (a plan repair reads the
+/// old plan's steps against it).
+#[salsa::tracked(returns(ref))]
+pub fn ground_planner<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Ground<'db> {
+    ground_with_relevance(db, problem, Limits::PLANNER, false)
+}
+
 /// Grounds a problem within `limits`. An empty result for what is not a
 /// problem with a known domain.
 pub fn ground_with<'db>(db: &'db dyn Db, problem: Unit<'db>, limits: Limits) -> Ground<'db> {
-    let mut g = Ground::default();
+    ground_with_relevance(db, problem, limits, false)
+}
+
+/// Grounds a problem within `limits`, keeping only the instances relevant to
+/// its goal when `relevance` is set and the problem allows it (no task
+/// network, methods, derived predicates or constraints, and no construct the
+/// STRIPS view leaves out but numeric effects: see [`relevance_goal`]).
+pub fn ground_with_relevance<'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    limits: Limits,
+    relevance: bool,
+) -> Ground<'db> {
+    let mut g = Ground { limits, ..Ground::default() };
     if problem.kind(db) != UnitKind::Problem {
         return g;
     }
@@ -299,6 +361,10 @@ pub fn ground_with<'db>(db: &'db dyn Db, problem: Unit<'db>, limits: Limits) -> 
         wild_add: Vec<PredId>,
         unsupported: bool,
         duration: Option<super::duration::CExpr>,
+        /// For relevance: the conditions `pre` and `neg` leave out because
+        /// the operator's own start may make them true.
+        own_pos: Vec<CAtom>,
+        own_neg: Vec<CAtom>,
     }
     let mut compiled = Vec::with_capacity(ops.len());
     for (_, op) in &ops {
@@ -322,6 +388,16 @@ pub fn ground_with<'db>(db: &'db dyn Db, problem: Unit<'db>, limits: Limits) -> 
             .filter_map(|a| cx.pred(&a.pred))
             .collect();
         let unsupported = cx.unsupported;
+        let (mut own_pos, mut own_neg) = (Vec::new(), Vec::new());
+        if relevance {
+            for (from, to) in [(&op.own_start.pos, &mut own_pos), (&op.own_start.neg, &mut own_neg)] {
+                for a in from {
+                    if let Some(c) = cx.atom(a).filter(|c| !cx.is_static(c.pred)) {
+                        to.push(c);
+                    }
+                }
+            }
+        }
         let duration = DurationCompiler {
             params: &op.params,
             objects: &g.objects,
@@ -337,10 +413,38 @@ pub fn ground_with<'db>(db: &'db dyn Db, problem: Unit<'db>, limits: Limits) -> 
             wild_add,
             unsupported,
             duration,
+            own_pos,
+            own_neg,
         });
     }
     g.static_preds.resize(g.predicates.len(), true);
     g.untracked_preds.resize(g.predicates.len(), false);
+
+    // Goal relevance: restrict each parameter to the objects a relevant
+    // instance may give it; an operator without any relevant instance is
+    // not instantiated at all.
+    if relevance && let Some(goal) = relevance_goal(db, problem, domain, &ops, &g) {
+        let rel_ops: Vec<RelOp> = ops
+            .iter()
+            .zip(&compiled)
+            .map(|((item, op), c)| RelOp {
+                domains: c.spec_add.spec.domains(),
+                pos: c.pre.iter().chain(&c.own_pos).collect(),
+                neg: c.neg.iter().chain(&c.own_neg).collect(),
+                add: &c.spec_add.add,
+                del: &c.del,
+                wild_add: &c.wild_add,
+                numeric_effect: op.unsupported.iter().any(|u| u.what == "a numeric effect"),
+                numeric_read: !op.pre.numeric.is_empty() || reads_changing_fluent(db, *item, &g),
+            })
+            .collect();
+        let found = super::relevance::relevant(&rel_ops, &goal, g.objects.len());
+        drop(rel_ops);
+        for (c, r) in compiled.iter_mut().zip(found) {
+            c.spec_add.spec.restrict(r.as_deref());
+        }
+        g.relevance = true;
+    }
 
     // Instantiate them with relaxed reachability.
     let inputs: Vec<&OpInput> = compiled.iter().map(|c| &c.spec_add).collect();
@@ -349,6 +453,7 @@ pub fn ground_with<'db>(db: &'db dyn Db, problem: Unit<'db>, limits: Limits) -> 
     let mut budget = limits.candidates;
     let fix = fixpoint(&inputs, &mut g.atoms, &start, g.init.truth().to_vec(), &mut budget, limits.operators);
     g.truncated = fix.truncated;
+    g.tried = limits.candidates - budget;
 
     // Build the ground operators, schema by schema, instances sorted by arguments.
     let mut by_op: Vec<Vec<u32>> = vec![Vec::new(); ops.len()];
@@ -441,11 +546,128 @@ pub fn ground_with<'db>(db: &'db dyn Db, problem: Unit<'db>, limits: Limits) -> 
             end: g.operators.len() as u32,
             wild_add: c.wild_add.clone(),
             unsupported: c.unsupported,
+            candidates: c.spec_add.spec.candidates(),
         });
     }
     g.reachable = fix.reached;
     g.reachable.resize(g.atoms.len(), false);
     g
+}
+
+/// The goal as [`super::relevance`] reads it, or `None` when relevance
+/// cannot be applied soundly: a task network or methods (decomposition
+/// needs what methods give, not what the goal needs), timed initial
+/// literals (a step may be needed only to last past one), derived predicates,
+/// PDDL 3 constraints or preferences, processes and events, or an operator
+/// with a construct the STRIPS view leaves out (a disjunctive or quantified
+/// condition, a conditional or quantified effect, an object fluent) other
+/// than a numeric effect.
+fn relevance_goal<'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    domain: Unit<'db>,
+    ops: &[(Item<'db>, &super::lifted::Operator)],
+    g: &Ground<'db>,
+) -> Option<RelGoal> {
+    let blocked = |u: Unit<'db>| {
+        u.items(db).iter().any(|i| {
+            matches!(i.section(db), Section::Method | Section::Derived | Section::Htn | Section::Constraints)
+        })
+    };
+    // Timed initial literals: VAL applies none after a plan's last
+    // happening, so a goal a literal makes true needs some step, any step,
+    // that ends after it (tests/planner/props/goal-made-by-a-late-timed-literal.pddl).
+    if blocked(domain) || blocked(problem) || !g.init.timed.is_empty() {
+        return None;
+    }
+    for (item, op) in ops {
+        if op.unsupported.iter().any(|u| u.what != "a numeric effect") {
+            return None;
+        }
+        if let ItemData::Action(a) = &lower_item(db, *item).data
+            && matches!(a.kind, ActionKind::Process | ActionKind::Event)
+        {
+            return None;
+        }
+    }
+    let mut goal = RelGoal::default();
+    for &item in problem.items(db) {
+        if let ItemData::Goal(gd) = &lower_item(db, item).data {
+            goal_atoms(gd, Some(true), g, &mut goal)?;
+        }
+    }
+    Some(goal)
+}
+
+/// Adds the atoms of a goal formula under `polarity` (`None`: both, inside a
+/// disjunction) to `out`; `None` for what relevance cannot read.
+fn goal_atoms(gd: &Gd, polarity: Option<bool>, g: &Ground<'_>, out: &mut RelGoal) -> Option<()> {
+    match gd {
+        Gd::Atom(a) => {
+            let Some(pred) = g.predicates.get(&a.pred.key) else { return Some(()) };
+            if g.is_static(pred) {
+                return Some(());
+            }
+            // A variable (quantified) or a term that is no object: any object.
+            let args: Vec<Option<ObjId>> = a
+                .args
+                .iter()
+                .map(|t| match t {
+                    Term::Const(c) => g.objects.id(&c.key),
+                    _ => None,
+                })
+                .collect();
+            if polarity != Some(false) {
+                out.pos.push(GoalAtom { pred, args: args.clone() });
+            }
+            if polarity != Some(true) {
+                out.neg.push(GoalAtom { pred, args });
+            }
+        }
+        Gd::Equal(..) => {}
+        Gd::Compare(..) => out.numeric = true,
+        Gd::Not(inner, _) => goal_atoms(inner, polarity.map(|p| !p), g, out)?,
+        Gd::And(gs, _) => gs.iter().try_for_each(|x| goal_atoms(x, polarity, g, out))?,
+        Gd::Or(gs, _) => gs.iter().try_for_each(|x| goal_atoms(x, None, g, out))?,
+        Gd::Imply(a, b, _) => {
+            goal_atoms(a, None, g, out)?;
+            goal_atoms(b, None, g, out)?;
+        }
+        Gd::Forall(_, inner, _) | Gd::Exists(_, inner, _) | Gd::Timed(_, inner, _) => {
+            goal_atoms(inner, polarity, g, out)?
+        }
+        Gd::Preference(..) | Gd::Modal(..) | Gd::Order(_) | Gd::Sortof(..) => return None,
+    }
+    Some(())
+}
+
+/// Whether an operator's duration may read a fluent that effects change (a
+/// bound only, or an expression over such a fluent): then the effects that
+/// change it matter to whoever needs the operator.
+fn reads_changing_fluent(db: &dyn Db, item: Item<'_>, g: &Ground<'_>) -> bool {
+    fn reads(e: &NumExpr, g: &Ground<'_>) -> bool {
+        match e {
+            NumExpr::Fluent(f) => {
+                g.functions.get(&f.func.key).is_none_or(|id| g.dynamic_funcs.get(id as usize) != Some(&false))
+            }
+            NumExpr::Op(_, es, _) => es.iter().any(|e| reads(e, g)),
+            NumExpr::Number(_) | NumExpr::Duration(_) | NumExpr::TaskDuration(..) | NumExpr::Var(_) => false,
+            NumExpr::Special(..) => true,
+        }
+    }
+    fn gd_reads(d: &Gd, g: &Ground<'_>) -> bool {
+        match d {
+            Gd::Compare(_, a, b, _) => reads(a, g) || reads(b, g),
+            Gd::And(gs, _) => gs.iter().any(|x| gd_reads(x, g)),
+            _ => true,
+        }
+    }
+    let duration = match &lower_item(db, item).data {
+        ItemData::Action(a) => a.duration.as_ref(),
+        ItemData::Task(t) => t.duration.as_ref(),
+        _ => None,
+    };
+    duration.is_some_and(|d| gd_reads(d, g))
 }
 
 /// The functions an effect changes.
@@ -957,6 +1179,39 @@ mod tests {
             assert_eq!(instances(g), ["(go a)", "(go b)"]);
             assert!(g.operators.iter().all(|o| o.unsupported && g.pre(o).is_empty()));
             assert!(g.untracked_preds[g.predicates.get("ready").unwrap() as usize]);
+        });
+    }
+
+    #[test]
+    fn the_planner_grounds_only_what_the_goal_may_need() {
+        // `hold`'s `over all (p ?y)` is left out of its lifted preconditions
+        // (its start may add it, when `?x` is `?y`); relevance still needs
+        // `(p b)` for `(hold a b)`, hence `(make b)`.
+        let d = "(define (domain g) (:requirements :durative-actions :typing)
+          (:types s t)
+          (:predicates (p ?a) (q ?a) (done ?a ?b))
+          (:durative-action hold :parameters (?x - s ?y - t) :duration (= ?duration 1)
+            :condition (over all (p ?y)) :effect (and (at start (p ?x)) (at end (done ?x ?y))))
+          (:action make :parameters (?z) :effect (p ?z))
+          (:action noise :parameters (?z) :effect (q ?z)))";
+        let p = "(define (problem p) (:domain g) (:objects a - s b - t) (:init) (:goal (done a b)))";
+        with_problem(d, p, |db, unit| {
+            assert_eq!(instances(ground(db, unit)).len(), 5);
+            let g = ground_relevant(db, unit);
+            assert!(g.relevance && !g.truncated);
+            assert_eq!(instances(g), ["(hold a b)", "(make b)"]);
+            assert_eq!(g.schemas[2].candidates, [0]);
+        });
+        // A goal on the negation, in a disjunction: the deleters matter too.
+        let d = "(define (domain h) (:requirements :negative-preconditions :disjunctive-preconditions)
+          (:predicates (p ?a) (q ?a))
+          (:action set :parameters (?z) :effect (p ?z))
+          (:action unset :parameters (?z) :effect (not (p ?z)))
+          (:action noise :parameters (?z) :effect (q ?z)))";
+        let p = "(define (problem p) (:domain h) (:objects a b) (:init (p a))
+          (:goal (or (not (p a)) (q b))))";
+        with_problem(d, p, |db, unit| {
+            assert_eq!(instances(ground_relevant(db, unit)), ["(noise b)", "(set a)", "(unset a)"]);
         });
     }
 

@@ -77,6 +77,36 @@ pub(crate) struct Spec {
     neg_static: Vec<CAtom>,
     eq: Vec<(Arg, Arg)>,
     neq: Vec<(Arg, Arg)>,
+    /// No instance is wanted (goal relevance ruled them all out).
+    disabled: bool,
+}
+
+impl Spec {
+    pub fn domains(&self) -> &[Vec<ObjId>] {
+        &self.domains
+    }
+
+    /// How many objects each parameter may take.
+    pub fn candidates(&self) -> Vec<u32> {
+        if self.disabled {
+            return vec![0; self.domains.len()];
+        }
+        self.domains.iter().map(|d| d.len() as u32).collect()
+    }
+
+    /// Keeps each parameter's objects that `relevant` has (`None`: no instance).
+    pub fn restrict(&mut self, relevant: Option<&[super::relevance::ObjSet]>) {
+        let Some(sets) = relevant else {
+            self.disabled = true;
+            return;
+        };
+        for ((d, f), s) in self.domains.iter_mut().zip(&mut self.fits).zip(sets) {
+            d.retain(|&o| s.contains(o));
+            for (o, fit) in f.iter_mut().enumerate() {
+                *fit &= s.contains(o as ObjId);
+            }
+        }
+    }
 }
 
 /// Predicate names: interned while compiling operators, only looked up later.
@@ -169,8 +199,15 @@ impl Compiler<'_, '_> {
                 f
             })
             .collect();
-        let mut spec =
-            Spec { domains, fits, pos: Vec::new(), neg_static: Vec::new(), eq: Vec::new(), neq: Vec::new() };
+        let mut spec = Spec {
+            domains,
+            fits,
+            pos: Vec::new(),
+            neg_static: Vec::new(),
+            eq: Vec::new(),
+            neq: Vec::new(),
+            disabled: false,
+        };
         for a in &pre.pos {
             match self.atom(a) {
                 Some(c) if !Self::flag(self.untracked, c.pred) => spec.pos.push(c),
@@ -512,7 +549,7 @@ impl<'a> Search<'a> {
 
     /// Every binding of an unseeded plan.
     pub fn run(&mut self, plan: &Plan, emit: &mut Emit<'_>) -> ControlFlow<Stop> {
-        if self.spec.domains.iter().any(|d| d.is_empty()) {
+        if self.spec.disabled || self.spec.domains.iter().any(|d| d.is_empty()) {
             return ControlFlow::Continue(());
         }
         let mut binding = vec![u32::MAX; self.spec.domains.len()];
@@ -525,7 +562,7 @@ impl<'a> Search<'a> {
 
     /// Every binding of a seeded plan that matches its seed to `seed_args`.
     pub fn run_seeded(&mut self, plan: &Plan, seed_args: &[ObjId], emit: &mut Emit<'_>) -> ControlFlow<Stop> {
-        let Some(j) = plan.seed else { return ControlFlow::Continue(()) };
+        let Some(j) = plan.seed.filter(|_| !self.spec.disabled) else { return ControlFlow::Continue(()) };
         let pattern = &self.spec.pos[j].args;
         if pattern.len() != seed_args.len() {
             return ControlFlow::Continue(());
@@ -710,11 +747,13 @@ pub(crate) fn fixpoint(
         facts.add(a, atoms);
     }
     let mut indexes = Indexes::default();
-    let first: Vec<Plan> =
-        ops.iter().map(|op| Plan::new(&op.spec, None, &mut indexes, &facts, atoms)).collect();
+    let first: Vec<Option<Plan>> = ops
+        .iter()
+        .map(|op| (!op.spec.disabled).then(|| Plan::new(&op.spec, None, &mut indexes, &facts, atoms)))
+        .collect();
     // The seeded plans, by the predicate of their seed.
     let mut seeded: FxHashMap<PredId, Vec<(usize, Plan)>> = FxHashMap::default();
-    for (i, op) in ops.iter().enumerate() {
+    for (i, op) in ops.iter().enumerate().filter(|(_, op)| !op.spec.disabled) {
         for j in 0..op.spec.pos.len() {
             let plan = Plan::new(&op.spec, Some(j), &mut indexes, &facts, atoms);
             if let Some(p) = plan.seed_pred(&op.spec) {
@@ -740,6 +779,7 @@ pub(crate) fn fixpoint(
 
     let mut truncated = false;
     for (i, plan) in first.iter().enumerate() {
+        let Some(plan) = plan else { continue };
         let mut search = Search {
             spec: &ops[i].spec,
             indexes: &indexes,

@@ -99,6 +99,11 @@ pub struct Operator {
     pub name_span: TextRange,
     pub params: Vec<Param>,
     pub pre: Conditions,
+    /// The atom conditions left out of `pre` because the operator's own
+    /// start may make them true: an instance where it does not still needs
+    /// them (relevance analysis reads them; `eq`, `neq` and `numeric` stay
+    /// empty).
+    pub own_start: Conditions,
     pub add: Vec<LAtom>,
     pub del: Vec<LAtom>,
     pub duration: Duration,
@@ -278,13 +283,19 @@ fn duration(gd: Option<&Gd>) -> Duration {
 /// an `over all` or `at end` condition on an atom its start adds (or, under
 /// a `not`, deletes) needs nothing before the operator starts, and `Pre` is
 /// what must hold for it to run (relaxed reachability, Definition 12).
-fn drop_own_start_support(scope: &mut Scope, cond: Option<&Gd>, eff: Option<&Effect>, pre: &mut Conditions) {
+fn drop_own_start_support(
+    scope: &mut Scope,
+    cond: Option<&Gd>,
+    eff: Option<&Effect>,
+    pre: &mut Conditions,
+) -> Conditions {
+    let mut dropped = Conditions::default();
     let (mut adds, mut dels) = (Vec::new(), Vec::new());
     if let Some(e) = eff {
         start_effects(scope, e, false, &mut adds, &mut dels);
     }
     if adds.is_empty() && dels.is_empty() {
-        return;
+        return dropped;
     }
     let mut at_start = Conditions::default();
     if let Some(g) = cond {
@@ -295,8 +306,17 @@ fn drop_own_start_support(scope: &mut Scope, cond: Option<&Gd>, eff: Option<&Eff
     // equal (`(p ?x1)` over all and `(p ?x0)` at start meet when `?x0` is
     // `?x1`). It stays when the start needs it too.
     let same = |a: &LAtom, b: &LAtom| a.pred == b.pred && a.args == b.args;
-    pre.pos.retain(|a| !adds.iter().any(|x| may_meet(x, a)) || at_start.pos.iter().any(|x| same(x, a)));
-    pre.neg.retain(|a| !dels.iter().any(|x| may_meet(x, a)) || at_start.neg.iter().any(|x| same(x, a)));
+    let keep = |a: &LAtom, effs: &[LAtom], start: &[LAtom]| {
+        !effs.iter().any(|x| may_meet(x, a)) || start.iter().any(|x| same(x, a))
+    };
+    let (pos, neg) = (std::mem::take(&mut pre.pos), std::mem::take(&mut pre.neg));
+    for a in pos {
+        if keep(&a, &adds, &at_start.pos) { pre.pos.push(a) } else { dropped.pos.push(a) }
+    }
+    for a in neg {
+        if keep(&a, &dels, &at_start.neg) { pre.neg.push(a) } else { dropped.neg.push(a) }
+    }
+    dropped
 }
 
 /// Whether two atoms of an operator can be the same atom in some instance:
@@ -352,9 +372,10 @@ fn action_operator(a: &Action) -> Operator {
     if let Some(e) = &a.effect {
         scope.effect(e, &mut add, &mut del);
     }
+    let mut own_start = Conditions::default();
     if a.kind != ActionKind::Action {
         let unsupported = scope.unsupported.len();
-        drop_own_start_support(&mut scope, a.precondition.as_ref(), a.effect.as_ref(), &mut pre);
+        own_start = drop_own_start_support(&mut scope, a.precondition.as_ref(), a.effect.as_ref(), &mut pre);
         scope.unsupported.truncate(unsupported);
     }
     let unsupported = scope.unsupported;
@@ -365,6 +386,7 @@ fn action_operator(a: &Action) -> Operator {
         duration: duration(a.duration.as_ref()),
         params,
         pre,
+        own_start,
         add,
         del,
         conflicts: None,
@@ -384,7 +406,7 @@ fn task_operator(t: &Task) -> Operator {
         scope.effect(e, &mut add, &mut del);
     }
     let unsupported = scope.unsupported.len();
-    drop_own_start_support(&mut scope, t.precondition.as_ref(), t.effect.as_ref(), &mut pre);
+    let own_start = drop_own_start_support(&mut scope, t.precondition.as_ref(), t.effect.as_ref(), &mut pre);
     scope.unsupported.truncate(unsupported);
     let conflicts = t.conflicts.as_ref().map(|c| LConflicts {
         atoms: c.atoms.iter().map(|a| scope.atom(a)).collect(),
@@ -400,6 +422,7 @@ fn task_operator(t: &Task) -> Operator {
         duration: duration(t.duration.as_ref()),
         params,
         pre,
+        own_start,
         add,
         del,
         conflicts,

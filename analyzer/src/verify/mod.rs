@@ -40,6 +40,7 @@ pub mod ground;
 mod instantiate;
 pub mod lifted;
 pub mod reach;
+mod relevance;
 pub mod state;
 
 use crate::db::{Db, Unit, UnitKind};

@@ -1,10 +1,10 @@
 //! Deterministic generator of hipop sample missions: the surveillance mission
 //! of the HiPOP case study, scaled-up variants for throughput benchmarks, the
 //! Survivors benchmark of the paper (with witness plans), the IPC 2002
-//! Satellite problems with abstract actions, and large inputs for the
-//! throughput benchmarks of `hipop check` (airports in the shape of the IPC
-//! 2004 Airport domains, large Satellite problems). The same arguments always
-//! give the same bytes.
+//! Satellite problems with abstract actions, the wide-action problem
+//! (grounding by relevance), and large inputs for the throughput benchmarks
+//! of `hipop check` (airports in the shape of the IPC 2004 Airport domains,
+//! large Satellite problems). The same arguments always give the same bytes.
 
 pub mod airport;
 mod emit;
@@ -13,7 +13,10 @@ mod rng;
 pub mod satellite;
 pub mod satgen;
 pub mod survivors;
+mod wide;
 mod world;
+
+pub use wide::wide_action;
 
 use emit::Provenance;
 use world::{Params, World};

@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use hipop_samplegen::{
     DEFAULT_SEED, LOST_ROBOT, airport, big, satellite, surveillance, surveillance_lost, survivors,
-    survivors_repair,
+    survivors_repair, wide_action,
 };
 
 const HELP: &str = "\
@@ -25,6 +25,7 @@ USAGE:
     hipop-samplegen airport --size-mb N [--seed N] [--out DIR]
     hipop-samplegen airport-set --pairs N --size-mb N [--seed N] [--out DIR]
     hipop-samplegen satellite-time --size-mb N [--seed N] [--out DIR]
+    hipop-samplegen wide-action [--objects N] [--every-instance] [--out DIR]
     hipop-samplegen --help
 
 COMMANDS:
@@ -68,6 +69,9 @@ COMMANDS:
                     The IPC 2002 temporal Satellite domain of the corpus folder DIR with
                     abstract actions (calibrate_instrument, get_image), and a copy of each
                     of its problems with an (:allowed-actions ...) section added.
+    wide-action     One action with four parameters and no precondition over N objects
+                    (default 300: 8.1 × 10⁹ instances), and a goal that needs one of them;
+                    with --every-instance, a goal that needs them all.
 
 OPTIONS:
     --seed N        Seed of the pseudo-random generator (default 42). The same seed
@@ -84,6 +88,9 @@ OPTIONS:
     --corpus DIR    satellite-abstract: the corpus folder (its domain.pddl and
                     instances/*.pddl), e.g. .../ipc2002-temporal/satellite-time-simple-automatic
     --pairs N       airport-set: the number of domain and problem pairs.
+    --objects N     wide-action: the number of objects (default 300, at least 4).
+    --every-instance
+                    wide-action: the goal needs every instance of the action.
     -h, --help      Print this help.
 
 EXAMPLES:
@@ -103,6 +110,7 @@ enum Command {
     Airport { size_mb: f64, seed: u64, out: PathBuf },
     AirportSet { pairs: usize, size_mb: f64, seed: u64, out: PathBuf },
     SatelliteTime { size_mb: f64, seed: u64, out: PathBuf },
+    WideAction { objects: usize, every_instance: bool, out: PathBuf },
 }
 
 fn parse_args(args: &[String]) -> Result<Command, String> {
@@ -118,6 +126,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
     let mut witness = false;
     let mut corpus = None;
     let mut pairs = None;
+    let (mut objects, mut every_instance) = (300, false);
     let (mut robot, mut at) = (LOST_ROBOT.0.to_string(), LOST_ROBOT.1);
     let mut rest = args[1..].iter();
     while let Some(flag) = rest.next() {
@@ -154,6 +163,15 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
                 at = v.parse().map_err(|_| format!("invalid time `{v}` (expected whole seconds)"))?;
             }
             "--corpus" if cmd == "satellite-abstract" => corpus = Some(PathBuf::from(value("--corpus")?)),
+            "--objects" if cmd == "wide-action" => {
+                let v = value("--objects")?;
+                objects = v
+                    .parse()
+                    .ok()
+                    .filter(|n| (4..=100_000).contains(n))
+                    .ok_or_else(|| format!("invalid number of objects `{v}` (4 to 100000)"))?;
+            }
+            "--every-instance" if cmd == "wide-action" => every_instance = true,
             other => return Err(format!("unexpected argument `{other}`")),
         }
     }
@@ -183,6 +201,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
             let corpus = corpus.ok_or("satellite-abstract needs --corpus DIR")?;
             Ok(Command::SatelliteAbstract { corpus, out })
         }
+        "wide-action" => Ok(Command::WideAction { objects, every_instance, out }),
         other => Err(format!("unknown command `{other}`")),
     }
 }
@@ -233,6 +252,9 @@ fn main() -> ExitCode {
         Ok(Command::SatelliteAbstract { corpus, out }) => {
             satellite::satellite_abstract(&corpus).and_then(|files| write_all(&out, &files, false))
         }
+        Ok(Command::WideAction { objects, every_instance, out }) => {
+            write_files(&out, &wide_action(objects, every_instance))
+        }
         Err(e) => Err(format!("{e}\n\nRun `hipop-samplegen --help` for usage.")),
     };
     match result {
@@ -271,6 +293,15 @@ mod tests {
         assert_eq!(
             parse_args(&args("survivors-repair --seed 3")),
             Ok(Command::SurvivorsRepair { seed: 3, out: PathBuf::from(".") })
+        );
+        assert_eq!(
+            parse_args(&args("wide-action --objects 40 --every-instance")),
+            Ok(Command::WideAction { objects: 40, every_instance: true, out: PathBuf::from(".") })
+        );
+        assert!(parse_args(&args("wide-action --objects 3")).is_err());
+        assert_eq!(
+            parse_args(&args("wide-action")),
+            Ok(Command::WideAction { objects: 300, every_instance: false, out: PathBuf::from(".") })
         );
         assert!(parse_args(&args("survivors-repair --witness")).is_err());
         assert_eq!(
