@@ -112,7 +112,10 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
             );
         }
     };
-    let result = match analysis.run_planner(fp, &options.config, &options.limits, &|| false, &mut progress) {
+    let watchdog = options.limits.time.map(|t| Watchdog::start(t, options.format == PlanOutput::Json));
+    let planned = analysis.run_planner(fp, &options.config, &options.limits, &|| false, &mut progress);
+    drop(watchdog);
+    let result = match planned {
         Ok(Some(r)) => r,
         Ok(None) => {
             eprintln!("error: {}: no `(define (problem …) …)` in this file", problem.display());
@@ -263,6 +266,64 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
             let _ = std::io::stderr().flush();
             code
         }
+    }
+}
+
+/// The time limit, whatever the planner is doing: the search looks at the
+/// clock at every plan it expands, but grounding and compiling a large
+/// problem (hundreds of thousands of instances, millions of method
+/// instances) do not. Past the limit by [`Watchdog::GRACE`], the process
+/// ends with exit status 3, as for any limit, saying where it was.
+struct Watchdog {
+    done: std::sync::Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl Watchdog {
+    /// After the limit, what the search's own stop, its report and the plan
+    /// written may take (the search stops within 0.09 s of it).
+    const GRACE: Duration = Duration::from_millis(150);
+
+    fn start(limit: Duration, json: bool) -> Watchdog {
+        use std::sync::atomic::Ordering;
+        let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let seen = done.clone();
+        let deadline = std::time::Instant::now() + limit + Self::GRACE;
+        std::thread::spawn(move || {
+            loop {
+                let now = std::time::Instant::now();
+                if seen.load(Ordering::Acquire) {
+                    return;
+                }
+                if now >= deadline {
+                    break;
+                }
+                std::thread::sleep((deadline - now).min(Duration::from_millis(20)));
+            }
+            if json {
+                let doc = json!({
+                    "status": "limit",
+                    "limit": "time",
+                    "expanded": 0,
+                    "generated": 0,
+                    "seconds": limit.as_secs_f64(),
+                    "diagnostics": [],
+                });
+                print_stdout(&serde_json::to_string_pretty(&doc).unwrap_or_default());
+            }
+            eprintln!(
+                "no plan found: the time limit ({:.1} s) was reached where the planner does not look at the clock (grounding or compiling a large problem)",
+                limit.as_secs_f64()
+            );
+            let _ = std::io::stderr().flush();
+            std::process::exit(3);
+        });
+        Watchdog { done }
+    }
+}
+
+impl Drop for Watchdog {
+    fn drop(&mut self) {
+        self.done.store(true, std::sync::atomic::Ordering::Release);
     }
 }
 

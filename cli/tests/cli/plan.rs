@@ -102,3 +102,30 @@ fn repair_exit_statuses() {
     assert_eq!(status(&o), 2, "{}", stderr(&o));
     assert!(stderr(&o).contains("the old plan cannot be read"), "{}", stderr(&o));
 }
+
+/// The time limit holds where the planner does not look at the clock:
+/// grounding the methods of the IPC 2020 Monroe problems takes seconds to
+/// minutes, and `hipop plan --time-limit 0.5` ends with exit status 3 and
+/// says so (without the watchdog it ran on, and ended with another status).
+#[test]
+fn the_time_limit_holds_while_grounding() {
+    let corpora = std::env::var_os("HIPOP_CORPORA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| workspace_root().join("../shared/corpora"));
+    let dir = corpora.join("ipc2020-hddl/partial-order/Monroe-Fully-Observable");
+    if !dir.is_dir() {
+        eprintln!("SKIP: {} is absent (set HIPOP_CORPORA)", dir.display());
+        return;
+    }
+    let name = "pfile01-p-0088-quell-riot-1-tlt";
+    let domain = dir.join(format!("{name}-domain.hddl"));
+    let problem = dir.join(format!("{name}.hddl"));
+    let (d, p) = (domain.to_str().expect("UTF-8 path"), problem.to_str().expect("UTF-8 path"));
+    let o = hipop(&["plan", d, p, "--time-limit", "0.5", "--color", "never"]);
+    assert_eq!(status(&o), 3, "{}", stderr(&o));
+    assert!(stderr(&o).contains("the time limit (0.5 s) was reached"), "{}", stderr(&o));
+    let o = hipop(&["plan", d, p, "--time-limit", "0.5", "--format", "json"]);
+    assert_eq!(status(&o), 3, "{}", stderr(&o));
+    let doc: Value = serde_json::from_str(&stdout(&o)).expect("JSON on standard output");
+    assert_eq!((doc["status"].as_str(), doc["limit"].as_str()), (Some("limit"), Some("time")));
+}
