@@ -60,7 +60,7 @@ pub fn run(path_a: &Path, path_b: &Path, options: &Options) -> u8 {
     let mut host = AnalysisHost::new();
     let mut io_errors = Vec::new();
     let mut load = |host: &mut AnalysisHost, path: &Path| match read(path, "a plan file") {
-        Ok(text) => Some(host.set_file_text(&path.display().to_string(), text)),
+        Ok(text) => Some(host.set_file_text(&crate::inputs::key(path), text)),
         Err(m) => {
             io_errors.push(m);
             None

@@ -8,6 +8,19 @@ pub enum Input {
     Problem { path: String, message: String },
 }
 
+/// The name a file is known by in the analysis: its path as given, written
+/// the same way whatever way it was given (`a//b.pddl`, `a/./b.pddl` and
+/// `./a/b.pddl` are `a/b.pddl`), so that files are in the same folder when
+/// their folders are (a problem finds the domain beside it by its folder).
+pub fn key(path: &Path) -> String {
+    use std::path::Component;
+    let mut parts = path.components().peekable();
+    if parts.peek() == Some(&Component::CurDir) && path.components().count() > 1 {
+        parts.next();
+    }
+    parts.collect::<PathBuf>().display().to_string()
+}
+
 fn is_model_file(p: &Path) -> bool {
     matches!(p.extension().and_then(|e| e.to_str()), Some("pddl" | "hddl" | "PDDL" | "HDDL"))
 }
@@ -57,9 +70,9 @@ pub fn collect(paths: &[PathBuf]) -> Vec<Input> {
             }),
         }
     }
-    files.dedup();
-    for f in files {
-        let path = f.display().to_string();
+    let mut files: Vec<(String, PathBuf)> = files.into_iter().map(|f| (key(&f), f)).collect();
+    files.dedup_by(|a, b| a.0 == b.0);
+    for (path, f) in files {
         match std::fs::read(&f) {
             Ok(bytes) => match String::from_utf8(bytes) {
                 Ok(text) => out.push(Input::File { path, text }),
@@ -77,4 +90,20 @@ pub fn collect(paths: &[PathBuf]) -> Vec<Input> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::key;
+    use std::path::Path;
+
+    #[test]
+    fn paths_are_named_the_same_way_however_given() {
+        assert_eq!(key(Path::new("a//b.pddl")), "a/b.pddl");
+        assert_eq!(key(Path::new("a/./b.pddl")), "a/b.pddl");
+        assert_eq!(key(Path::new("./a/b.pddl")), "a/b.pddl");
+        assert_eq!(key(Path::new("/x//y/")), "/x/y");
+        assert_eq!(key(Path::new("b.pddl")), "b.pddl");
+        assert_eq!(key(Path::new(".")), ".");
+    }
 }

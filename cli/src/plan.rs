@@ -47,7 +47,7 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
     }
     let mut host = AnalysisHost::new();
     let load = |host: &mut AnalysisHost, path: &Path, what: &str| match crate::diff::read(path, what) {
-        Ok(text) => Ok(host.set_file_text(&path.display().to_string(), text)),
+        Ok(text) => Ok(host.set_file_text(&crate::inputs::key(path), text)),
         Err(m) => Err(m),
     };
     let (fd, fp) =

@@ -34,7 +34,7 @@ pub struct Options {
 pub fn run(domain: &Path, problem: &Path, old: &Path, options: &Options) -> u8 {
     let mut host = AnalysisHost::new();
     let mut load = |path: &Path, what: &str| match crate::diff::read(path, what) {
-        Ok(text) => Ok(host.set_file_text(&path.display().to_string(), text)),
+        Ok(text) => Ok(host.set_file_text(&crate::inputs::key(path), text)),
         Err(m) => Err(m),
     };
     let files =

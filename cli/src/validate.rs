@@ -74,7 +74,7 @@ pub fn run(domain: &Path, problem: &Path, plans: &[PathBuf], options: &Options) 
     host.set_plan_options(options.validate);
     let mut io_errors: Vec<(String, String)> = Vec::new();
     let mut load = |host: &mut AnalysisHost, path: &Path, what: &str| match crate::diff::read(path, what) {
-        Ok(text) => Some(host.set_file_text(&path.display().to_string(), text)),
+        Ok(text) => Some(host.set_file_text(&crate::inputs::key(path), text)),
         Err(m) => {
             io_errors.push((path.display().to_string(), m));
             None
