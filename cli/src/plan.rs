@@ -112,7 +112,7 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
             );
         }
     };
-    let watchdog = options.limits.time.map(|t| Watchdog::start(t, options.format == PlanOutput::Json));
+    let watchdog = Watchdog::start(&options.limits, options.format == PlanOutput::Json);
     let planned = analysis.run_planner(fp, &options.config, &options.limits, &|| false, &mut progress);
     drop(watchdog);
     let result = match planned {
@@ -269,50 +269,73 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
     }
 }
 
-/// The time limit, whatever the planner is doing: the search looks at the
-/// clock at every plan it expands, but grounding and compiling a large
-/// problem (hundreds of thousands of instances, millions of method
-/// instances) do not. Past the limit by [`Watchdog::GRACE`], the process
-/// ends with exit status 3, as for any limit, saying where it was.
+/// The time and memory limits, whatever the planner is doing: the search
+/// looks at the clock at every plan it expands and at the memory every 32,
+/// but grounding and compiling a large problem (hundreds of thousands of
+/// instances, millions of method instances) look at neither. Past the time
+/// limit by [`Watchdog::GRACE`], or over the memory limit, the process ends
+/// with exit status 3, as for any limit, saying where it was.
 struct Watchdog {
     done: std::sync::Arc<std::sync::atomic::AtomicBool>,
 }
 
 impl Watchdog {
-    /// After the limit, what the search's own stop, its report and the plan
-    /// written may take (the search stops within 0.09 s of it).
+    /// After the time limit, what the search's own stop, its report and the
+    /// plan written may take (the search stops within 0.09 s of it).
     const GRACE: Duration = Duration::from_millis(150);
+    /// How often the memory is read.
+    const EVERY: Duration = Duration::from_millis(20);
 
-    fn start(limit: Duration, json: bool) -> Watchdog {
+    fn start(limits: &PlannerLimits, json: bool) -> Watchdog {
         use std::sync::atomic::Ordering;
         let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let seen = done.clone();
-        let deadline = std::time::Instant::now() + limit + Self::GRACE;
+        let time = limits.time;
+        let deadline = time.map(|t| std::time::Instant::now() + t + Self::GRACE);
+        let memory = limits.memory.zip(limits.memory_in_use);
         std::thread::spawn(move || {
-            loop {
-                let now = std::time::Instant::now();
+            let mut last = memory.map_or(0, |(_, in_use)| in_use());
+            let which = loop {
                 if seen.load(Ordering::Acquire) {
                     return;
                 }
-                if now >= deadline {
-                    break;
+                let now = std::time::Instant::now();
+                if deadline.is_some_and(|d| now >= d) {
+                    break "time";
                 }
-                std::thread::sleep((deadline - now).min(Duration::from_millis(20)));
+                // Before the next reading, the memory grows about as much
+                // as since the last one: stop while it is still under.
+                if let Some((m, in_use)) = memory {
+                    let now = in_use();
+                    if now.saturating_add(now.saturating_sub(last)) > m {
+                        break "memory";
+                    }
+                    last = now;
+                }
+                let wait = deadline.map_or(Self::EVERY, |d| (d - now).min(Self::EVERY));
+                std::thread::sleep(wait);
+            };
+            if seen.load(Ordering::Acquire) {
+                return;
             }
             if json {
                 let doc = json!({
                     "status": "limit",
-                    "limit": "time",
+                    "limit": which,
                     "expanded": 0,
                     "generated": 0,
-                    "seconds": limit.as_secs_f64(),
+                    "seconds": time.map(|t| t.as_secs_f64()),
                     "diagnostics": [],
                 });
                 print_stdout(&serde_json::to_string_pretty(&doc).unwrap_or_default());
             }
+            let limit = match (which, time, memory) {
+                ("time", Some(t), _) => format!("{:.1} s", t.as_secs_f64()),
+                (_, _, Some((m, _))) => format!("{} MiB", m >> 20),
+                _ => String::new(),
+            };
             eprintln!(
-                "no plan found: the time limit ({:.1} s) was reached where the planner does not look at the clock (grounding or compiling a large problem)",
-                limit.as_secs_f64()
+                "no plan found: the {which} limit ({limit}) was reached where the planner does not look at it (grounding or compiling a large problem)"
             );
             let _ = std::io::stderr().flush();
             std::process::exit(3);

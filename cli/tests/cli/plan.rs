@@ -103,12 +103,13 @@ fn repair_exit_statuses() {
     assert!(stderr(&o).contains("the old plan cannot be read"), "{}", stderr(&o));
 }
 
-/// The time limit holds where the planner does not look at the clock:
-/// grounding the methods of the IPC 2020 Monroe problems takes seconds to
-/// minutes, and `hipop plan --time-limit 0.5` ends with exit status 3 and
-/// says so (without the watchdog it ran on, and ended with another status).
+/// The limits hold where the planner does not look at them: grounding the
+/// methods of the IPC 2020 Monroe problems takes seconds to minutes and
+/// about 170 MB, and `hipop plan --time-limit 0.5`, or `--memory-limit 64`,
+/// ends with exit status 3 and says so (without the watchdog it ran on, and
+/// ended with another status).
 #[test]
-fn the_time_limit_holds_while_grounding() {
+fn the_limits_hold_while_grounding() {
     let corpora = std::env::var_os("HIPOP_CORPORA")
         .map(PathBuf::from)
         .unwrap_or_else(|| workspace_root().join("../shared/corpora"));
@@ -128,4 +129,7 @@ fn the_time_limit_holds_while_grounding() {
     assert_eq!(status(&o), 3, "{}", stderr(&o));
     let doc: Value = serde_json::from_str(&stdout(&o)).expect("JSON on standard output");
     assert_eq!((doc["status"].as_str(), doc["limit"].as_str()), (Some("limit"), Some("time")));
+    let o = hipop(&["plan", d, p, "--memory-limit", "64", "--time-limit", "600", "--color", "never"]);
+    assert_eq!(status(&o), 3, "{}", stderr(&o));
+    assert!(stderr(&o).contains("the memory limit (64 MiB) was reached"), "{}", stderr(&o));
 }
