@@ -459,34 +459,8 @@ fn removable_steps(
     problem: &Path,
     plan: &hipop_analyzer::planner::output::SolvedPlan,
 ) -> Vec<String> {
-    let n = plan.steps.len();
-    let mut producers: Vec<Vec<usize>> = vec![Vec::new(); n];
-    let mut serves = vec![0usize; n];
-    for l in &plan.causal_links {
-        if let Some(from) = l.from {
-            serves[from] += 1;
-            if let Some(to) = l.to {
-                producers[to].push(from);
-            }
-        }
-    }
     let mut out = Vec::new();
-    for s in plan.primitive().map(|st| st.id) {
-        let mut removed = vec![false; n];
-        let mut left = serves.clone();
-        let mut work = vec![s];
-        removed[s] = true;
-        while let Some(r) = work.pop() {
-            for &p in &producers[r] {
-                left[p] -= 1;
-                if left[p] == 0 && !removed[p] {
-                    removed[p] = true;
-                    work.push(p);
-                }
-            }
-        }
-        let mut rest = plan.clone();
-        rest.steps.retain(|st| !removed[st.id]);
+    for (s, rest) in plan.without_each_step() {
         if validate(host, problem, "rest.plan", &rest.to_val(""), 0.01).is_empty() {
             out.push(format!("{} {}", plan.steps[s].name, plan.steps[s].args.join(" ")));
         }

@@ -143,36 +143,8 @@ pub(crate) fn redundant_steps(
     problem: hipop_analyzer::SourceFile,
     plan: &hipop_analyzer::planner::output::SolvedPlan,
 ) -> usize {
-    let n = plan.steps.len();
-    // The producers of each step's conditions, and how many consumers each
-    // producer serves (the goal counts, and is never removed).
-    let mut producers: Vec<Vec<usize>> = vec![Vec::new(); n];
-    let mut serves = vec![0usize; n];
-    for l in &plan.causal_links {
-        if let Some(from) = l.from {
-            serves[from] += 1;
-            if let Some(to) = l.to {
-                producers[to].push(from);
-            }
-        }
-    }
     let mut count = 0;
-    for s in plan.primitive().map(|st| st.id) {
-        let mut removed = vec![false; n];
-        let mut left = serves.clone();
-        let mut work = vec![s];
-        removed[s] = true;
-        while let Some(r) = work.pop() {
-            for &p in &producers[r] {
-                left[p] -= 1;
-                if left[p] == 0 && !removed[p] {
-                    removed[p] = true;
-                    work.push(p);
-                }
-            }
-        }
-        let mut rest = plan.clone();
-        rest.steps.retain(|st| !removed[st.id]);
+    for (_, rest) in plan.without_each_step() {
         let f = host.set_file_text("bench.redundant.plan", rest.to_val(""));
         let valid = host.analysis().validate_plan(f, None, problem, &Options::default());
         if matches!(valid, Ok(Some(v)) if v.valid && v.checked) {

@@ -278,6 +278,44 @@ impl SolvedPlan {
         self.steps.iter().any(|s| s.is_abstract)
     }
 
+    /// For each primitive step, its id and the plan left without it and
+    /// without the steps whose every causal link served only removed steps.
+    /// None of these plans is valid when the plan has no redundant step: how
+    /// the plan bench and the tests check it.
+    pub fn without_each_step(&self) -> impl Iterator<Item = (usize, SolvedPlan)> + '_ {
+        let n = self.steps.len();
+        // The producers of each step's conditions, and how many consumers
+        // each producer serves (the goal counts, and is never removed).
+        let mut producers: Vec<Vec<usize>> = vec![Vec::new(); n];
+        let mut serves = vec![0usize; n];
+        for l in &self.causal_links {
+            if let Some(from) = l.from.filter(|&f| f < n) {
+                serves[from] += 1;
+                if let Some(to) = l.to.filter(|&t| t < n) {
+                    producers[to].push(from);
+                }
+            }
+        }
+        self.primitive().map(|st| st.id).filter(move |&s| s < n).map(move |s| {
+            let mut removed = vec![false; n];
+            let mut left = serves.clone();
+            let mut work = vec![s];
+            removed[s] = true;
+            while let Some(r) = work.pop() {
+                for &p in &producers[r] {
+                    left[p] -= 1;
+                    if left[p] == 0 && !removed[p] {
+                        removed[p] = true;
+                        work.push(p);
+                    }
+                }
+            }
+            let mut rest = self.clone();
+            rest.steps.retain(|st| !removed.get(st.id).copied().unwrap_or(false));
+            (s, rest)
+        })
+    }
+
     /// VAL's format: `0.000: (move r1 a b) [30.980]`, by start time.
     pub fn to_val(&self, header: &str) -> String {
         let mut out = String::new();
