@@ -348,8 +348,9 @@ pub struct Outcome<'db> {
     pub lints: Vec<Lint<'db>>,
 }
 
-/// Plans a problem. `cancel` is polled every few dozen expansions; `progress`
-/// is called about every 100 ms.
+/// Plans a problem. `cancel` is polled at every expansion; `progress` is
+/// called about every 100 ms, and at once for each better plan when the
+/// search goes on after its first ([`PlannerLimits::first`] off).
 pub fn plan<'db>(
     db: &'db dyn Db,
     problem: Unit<'db>,
@@ -444,12 +445,12 @@ pub fn prepare<'db>(
 impl<'db> Prepared<'db> {
     /// Anytime planning of a problem whose abstract actions are optional
     /// (no `:htn` task network): the first plan of the configured search;
-    /// then, with its cost as a bound, the first plan of the search without
-    /// abstract actions (`bare`, at most half the time left: plans of
-    /// elementary actions alone are often shorter, a patrol keeps its order
-    /// of visits); then the configured search again, branch and bound on
-    /// the best cost, until the time limit or no partial plan can do
-    /// better. Returns the best plan.
+    /// then, with that plan as a bound, the first better plan of the search
+    /// without abstract actions (`bare`, at most half the time left: plans
+    /// of elementary actions alone are often shorter, a patrol keeps its
+    /// order of visits); then the configured search again, branch and bound
+    /// on the best plan's makespan ([`Quality`]), until the time limit or no
+    /// partial plan can do better. Returns the best plan.
     fn improve(
         &self,
         db: &'db dyn Db,
@@ -459,7 +460,7 @@ impl<'db> Prepared<'db> {
         progress: &mut dyn FnMut(&Progress),
     ) -> Outcome<'db> {
         let started = std::time::Instant::now();
-        let spent = |extra: Duration| limits.time_spent + started.elapsed() + extra;
+        let spent = || limits.time_spent + started.elapsed();
         let first = PlannerLimits { first: true, ..limits.clone() };
         let mut best = self.search(db, config, &first, None, cancel, progress);
         if best.status != Status::Solved {
@@ -492,16 +493,16 @@ impl<'db> Prepared<'db> {
             stats.redundant_time += run.redundant_time;
         };
         // The search without abstract actions, for at most half the time left.
-        let left = limits.time.map(|t| t.saturating_sub(spent(Duration::ZERO)));
+        let left = limits.time.map(|t| t.saturating_sub(spent()));
         if left.is_none_or(|l| !l.is_zero()) && !cancel() {
             let mut task = self.task.clone();
             bare(&mut task);
             let h = heuristic::Heuristic::new(&task);
             let bare_config = Config { bare: true, ..config.clone() };
-            let half = left.map(|l| spent(Duration::ZERO) + l / 2);
+            let half = left.map(|l| spent() + l / 2);
             let bare_limits = PlannerLimits {
                 time: half,
-                time_spent: spent(Duration::ZERO),
+                time_spent: spent(),
                 first: true,
                 better_than: stats.best,
                 ..limits.clone()
@@ -520,12 +521,8 @@ impl<'db> Prepared<'db> {
             }
         }
         // The configured search again, bounded by the best plan.
-        let bounded = PlannerLimits {
-            time_spent: spent(Duration::ZERO),
-            first: false,
-            better_than: stats.best,
-            ..limits.clone()
-        };
+        let bounded =
+            PlannerLimits { time_spent: spent(), first: false, better_than: stats.best, ..limits.clone() };
         let run = self.search(db, config, &bounded, None, cancel, progress);
         merge(&mut stats, &run.stats);
         match (run.status, run.plan) {
