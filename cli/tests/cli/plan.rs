@@ -133,3 +133,24 @@ fn the_limits_hold_while_grounding() {
     assert_eq!(status(&o), 3, "{}", stderr(&o));
     assert!(stderr(&o).contains("the memory limit (64 MiB) was reached"), "{}", stderr(&o));
 }
+
+/// A problem finds the only domain beside it, named otherwise (as in the IPC
+/// 2020 Barman-BDI folder), however its folder is written: `dir//p.pddl`
+/// and `./dir/p.pddl` are in the same folder as `dir/d.pddl`. Before, the
+/// folder read `dir/` and the problem had no domain (E0114).
+#[test]
+fn a_folder_is_the_same_however_its_path_is_written() {
+    let dir = TempDir::new("paths");
+    let domain =
+        "(define (domain agent) (:predicates (done)) (:action finish :parameters () :effect (done)))\n";
+    let problem = "(define (problem p) (:domain other-name) (:init) (:goal (done)))\n";
+    std::fs::write(dir.0.join("d.pddl"), domain).expect("written");
+    std::fs::write(dir.0.join("p.pddl"), problem).expect("written");
+    let d = format!("{}/d.pddl", dir.path());
+    for p in [format!("{}//p.pddl", dir.path()), format!("{}/./p.pddl", dir.path())] {
+        let o = hipop(&["check", &d, &p, "--color", "never"]);
+        assert!(!stdout(&o).contains("E0114") && !stderr(&o).contains("E0114"), "{p}:\n{}", stdout(&o));
+        let o = hipop(&["plan", &d, &p, "--first", "-q"]);
+        assert_eq!(status(&o), 0, "{p}: {}", stderr(&o));
+    }
+}
