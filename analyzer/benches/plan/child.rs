@@ -67,6 +67,19 @@ pub(crate) fn validate_into(
     if plan.is_hierarchical() {
         texts.push(("hier", "hier.plan", plan.to_hierarchical(header)));
     }
+    validate_texts(out, host, problem, texts, prefix)
+}
+
+/// Writes each `(key, extension, text)` beside `prefix` and validates it
+/// against `problem` at every tolerance of [`TOLERANCES`] into `out[key]`;
+/// `out["validate"]`: the seconds it took. Returns the texts.
+pub(crate) fn validate_texts(
+    out: &mut serde_json::Value,
+    host: &mut AnalysisHost,
+    problem: hipop_analyzer::SourceFile,
+    texts: Vec<(&str, &str, String)>,
+    prefix: &str,
+) -> Vec<String> {
     let start = Instant::now();
     let mut written = Vec::new();
     for (key, ext, text) in texts {
@@ -161,6 +174,9 @@ pub(crate) fn one(raw: &[String]) -> ExitCode {
         eprintln!("--one DOMAIN PROBLEM CONFIG TIME_LIMIT PLAN_PREFIX");
         return ExitCode::from(2);
     };
+    if peers::PEERS.contains(&config.as_str()) {
+        return peers::peer_one(domain, problem, config, limit, prefix);
+    }
     let anytime = config.ends_with(ANYTIME);
     let config = Config::parse(config.strip_suffix(ANYTIME).unwrap_or(config))
         .expect("the parent checked the configuration");

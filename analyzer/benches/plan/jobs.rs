@@ -137,6 +137,8 @@ pub(crate) fn run_child(job: &Job, limit: f64, plans: &Path) -> Run {
 pub(crate) struct ChildEnd {
     /// Its last line of standard output that is a JSON object.
     pub(crate) line: Option<String>,
+    /// Its whole standard output.
+    pub(crate) out: String,
     pub(crate) success: bool,
     pub(crate) killed: bool,
     pub(crate) exit: Option<std::process::ExitStatus>,
@@ -169,17 +171,21 @@ impl ChildEnd {
 /// after it started.
 pub(crate) fn spawn_child(args: &[OsString], limit: f64) -> ChildEnd {
     let exe = std::env::current_exe().expect("the bench binary");
-    let child = Command::new(exe)
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn();
+    let mut command = Command::new(exe);
+    command.args(args);
+    spawn_until(command, Duration::from_secs_f64(limit * 2.0 + 60.0))
+}
+
+/// Runs `command`, killing it once `deadline` has passed since it started,
+/// and watches its peak resident memory.
+pub(crate) fn spawn_until(mut command: Command, deadline: Duration) -> ChildEnd {
+    let child = command.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn();
     let mut child = match child {
         Ok(c) => c,
         Err(e) => {
             return ChildEnd {
                 line: None,
+                out: String::new(),
                 success: false,
                 killed: false,
                 exit: None,
@@ -200,7 +206,6 @@ pub(crate) fn spawn_child(args: &[OsString], limit: f64) -> ChildEnd {
     let out = reader(Box::new(child.stdout.take().expect("piped")));
     let err = reader(Box::new(child.stderr.take().expect("piped")));
     let start = Instant::now();
-    let deadline = Duration::from_secs_f64(limit * 2.0 + 60.0);
     let mut hwm = None;
     let mut killed = false;
     let status = loop {
@@ -214,13 +219,14 @@ pub(crate) fn spawn_child(args: &[OsString], limit: f64) -> ChildEnd {
             let _ = child.kill();
             killed = true;
         }
-        std::thread::sleep(Duration::from_millis(50));
+        std::thread::sleep(Duration::from_millis(20));
     };
     let wall = start.elapsed().as_secs_f64();
     let out = out.join().unwrap_or_default();
     let err = err.join().unwrap_or_default();
     ChildEnd {
         line: out.lines().rev().find(|l| l.trim_start().starts_with('{')).map(String::from),
+        out,
         success: status.is_some_and(|s| s.success()),
         killed,
         exit: status,
@@ -363,6 +369,40 @@ pub(crate) fn problems(
                         }
                         taken += 1;
                         out.push((suite, group.clone(), stem(&p), domain, p));
+                    }
+                }
+            }
+            "ipc2002" => {
+                let root = corpora().join(IPC2002);
+                let Ok(entries) = std::fs::read_dir(&root) else {
+                    let note = format!("ipc2002: skipped, no corpus at {}", root.display());
+                    eprintln!("{note}");
+                    notes.push(note);
+                    continue;
+                };
+                let mut sets: Vec<PathBuf> = entries
+                    .flatten()
+                    .map(|e| e.path())
+                    .filter(|p| p.join("domain.pddl").is_file() && p.join("instances").is_dir())
+                    .collect();
+                sets.sort();
+                let per_set = a.per_domain.unwrap_or(10);
+                for set in sets {
+                    let group = set.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+                    let mut ps: Vec<PathBuf> = std::fs::read_dir(set.join("instances"))
+                        .map(|d| {
+                            d.flatten()
+                                .map(|e| e.path())
+                                .filter(|p| p.extension().is_some_and(|e| e == "pddl"))
+                                .collect()
+                        })
+                        .unwrap_or_default();
+                    ps.sort_by_key(|p| {
+                        let digits: String = stem(p).chars().filter(char::is_ascii_digit).collect();
+                        (digits.parse::<u64>().unwrap_or(u64::MAX), stem(p))
+                    });
+                    for p in ps.into_iter().take(per_set) {
+                        out.push((suite, group.clone(), stem(&p), set.join("domain.pddl"), p));
                     }
                 }
             }

@@ -40,13 +40,14 @@ use hipop_analyzer::validate::Options;
 static GLOBAL: hipop_analyzer::alloc::Counting<mimalloc::MiMalloc> =
     hipop_analyzer::alloc::Counting::new(mimalloc::MiMalloc);
 
-const SUITES: [&str; 6] =
-    ["survivors", "satellite", "satellite-time", "satellite-abstract", "surveillance", "hddl"];
+const SUITES: [&str; 7] =
+    ["survivors", "satellite", "satellite-time", "satellite-abstract", "surveillance", "hddl", "ipc2002"];
 const SATELLITE: &str = "ipc2002-temporal/satellite-time-simple-automatic";
 const SATELLITE_TIME: &str = "ipc2002-temporal/satellite-time-automatic";
 /// Every plan must be valid from VAL's default tolerance down to this one.
 const TOLERANCES: [f64; 2] = [Options::DEFAULT_TOLERANCE, 0.0001];
 const HDDL: &str = "ipc2020-hddl/partial-order";
+const IPC2002: &str = "ipc2002-temporal";
 
 /// The shared corpora: `HIPOP_CORPORA`, or `../shared/corpora` beside the repository.
 fn corpora() -> PathBuf {
@@ -58,7 +59,11 @@ fn corpora() -> PathBuf {
 const HELP: &str = "\
 cargo bench -p hipop-analyzer --bench plan -- [SUITE…] [OPTIONS]
 
-SUITES: survivors satellite satellite-time satellite-abstract surveillance hddl (default: all)
+SUITES: survivors satellite satellite-time satellite-abstract surveillance hddl ipc2002
+        (default: all but ipc2002)
+        ipc2002: the first 10 problems (--per-domain) of every set of the IPC 2002
+        temporal corpus (Depots, DriverLog, Rovers, Satellite, ZenoTravel; time,
+        time-simple and complex; automatic and hand-coded)
         survivors-repair (plan each initial problem of the survivors-repair set, then
         repair that plan for each of its 3 events with repair and repairFlat, and
         replan; report Figures 12-13 of the HiPOP paper and the issue's targets)
@@ -71,7 +76,15 @@ OPTIONS:
                         survivors-repair: one, the default configuration by default);
                         NAME+anytime: the search goes on after its first plan until the
                         time limit and the best plan is kept (`hipop plan` without
-                        --first); the others stop at the first plan
+                        --first); the others stop at the first plan.
+                        Peers, run side by side under the same limit and validated by
+                        hipop's validator (skipped, saying so, when not given):
+                        vhpop: VHPOP with its 2002 competition options ($HIPOP_VHPOP:
+                        the vhpop binary); pandapi: pandaPI's parser, grounder and engine
+                        in PANDApro's 2023 partial-order agile configuration
+                        ($HIPOP_PANDAPI: the folder holding pandaPIparser,
+                        pandaPIgrounder and pandaPIengine). Their limit counts the
+                        whole run, parsing and grounding included
     --time-limit S      search time limit per problem, seconds (default 60; per run, 10
                         for survivors-repair)
     --jobs N            problems planned at once, each in its own process (default 1)
@@ -80,7 +93,8 @@ OPTIONS:
                         the run of median time is reported (default 5)
     --out FILE.md       the report (default target/plan-bench.md; the repair suites:
                         target/repair-bench.md); the CSV is FILE.csv
-    --per-domain N      hddl: only the first N problems of each domain
+    --per-domain N      hddl: only the first N problems of each domain; ipc2002: of
+                        each set (default 10)
     --filter TEXT       only the problems whose DOMAIN/NAME contains TEXT
     --satellite DIR     the Satellite corpus folder (default: $HIPOP_CORPORA or ../shared/corpora)
     --hddl DIR          the IPC 2020 partial-order folder (default: $HIPOP_CORPORA or ../shared/corpora)
@@ -88,6 +102,7 @@ OPTIONS:
 
 mod child;
 mod jobs;
+mod peers;
 mod repair;
 mod report;
 
@@ -169,7 +184,7 @@ pub(crate) fn parse_args(raw: &[String]) -> Result<Args, String> {
             "--configs" => {
                 let v = value("--configs")?;
                 let names: Vec<String> = v.split(',').filter(|s| !s.is_empty()).map(String::from).collect();
-                for n in &names {
+                for n in names.iter().filter(|n| !peers::PEERS.contains(&n.as_str())) {
                     Config::parse(n.strip_suffix(ANYTIME).unwrap_or(n))?;
                 }
                 a.configs = Some(names);
@@ -201,7 +216,7 @@ pub(crate) fn parse_args(raw: &[String]) -> Result<Args, String> {
         }
     }
     if a.suites.is_empty() {
-        a.suites = SUITES.iter().map(|s| s.to_string()).collect();
+        a.suites = SUITES.iter().filter(|s| **s != "ipc2002").map(|s| s.to_string()).collect();
     }
     let repairs = a.suites.iter().filter(|s| repair::SUITES.contains(&s.as_str())).count();
     if repairs > 0 && repairs < a.suites.len() {
@@ -236,8 +251,12 @@ pub(crate) fn main() -> ExitCode {
     let base = target_dir().join("plan-bench");
     let mut notes = Vec::new();
     let problems = problems(&a, &base.join("inputs"), &mut notes);
-    if let Some(n) = a.per_domain {
+    if let Some(n) = a.per_domain.filter(|_| a.suites.iter().any(|s| s == "hddl")) {
         notes.push(format!("hddl: only the first {n} problems (by file name) of each domain"));
+    }
+    if a.suites.iter().any(|s| s == "ipc2002") {
+        let n = a.per_domain.unwrap_or(10);
+        notes.push(format!("ipc2002: the first {n} problems (by number) of each set"));
     }
     if let Some(f) = &a.filter {
         notes.push(format!("only the problems whose name contains `{f}`"));
@@ -246,10 +265,19 @@ pub(crate) fn main() -> ExitCode {
     for (suite, group, problem, domain_path, problem_path) in problems {
         let configs: Vec<String> = match (&a.configs, suite) {
             (Some(c), _) => c.clone(),
-            (None, "hddl") => vec![Config::DEFAULT.to_string()],
+            (None, "hddl" | "ipc2002") => vec![Config::DEFAULT.to_string()],
             (None, _) => Config::MAIN.iter().map(|s| s.to_string()).collect(),
         };
         for config in configs {
+            if peers::PEERS.contains(&config.as_str())
+                && let Some(why) = peers::missing(&config)
+            {
+                if !notes.contains(&why) {
+                    eprintln!("{why}");
+                    notes.push(why);
+                }
+                continue;
+            }
             jobs.push(Job {
                 suite,
                 group: group.clone(),

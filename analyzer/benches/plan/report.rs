@@ -338,6 +338,7 @@ pub(crate) fn report(
         if *s == "survivors" {
             growth(&mut out, &configs, &rs);
         }
+        side_by_side(&mut out, &configs, &rs);
         let name =
             |j: &Job| if groups.len() > 1 { format!("{}/{}", j.group, j.problem) } else { j.problem.clone() };
         let unsolved: Vec<&(&Job, &Run)> = rs.iter().filter(|(_, r)| !r.solved()).collect();
@@ -389,6 +390,60 @@ pub(crate) fn report(
         }
     }
     out
+}
+
+/// hipop's configurations against each peer run in the same suite: the
+/// problems both solve, hipop's median time and makespan as ratios of the
+/// peer's, and the problems only one of them solves.
+pub(crate) fn side_by_side(out: &mut String, configs: &[String], runs: &[(&Job, &Run)]) {
+    let peers: Vec<&String> = configs.iter().filter(|c| super::peers::PEERS.contains(&c.as_str())).collect();
+    if peers.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "\nSide by side (same problems, same limit, same run; a peer's time is its whole run, \
+         parsing and grounding included; ratios are hipop's over the peer's, on the problems both solve):\n\n\
+         | hipop | peer | both solve | only hipop | only the peer | median time ratio | median makespan ratio |\n\
+         |---|---|---|---|---|---|---|"
+    );
+    let find = |config: &str, j: &Job| {
+        runs.iter()
+            .find(|(k, _)| k.config == config && k.group == j.group && k.problem == j.problem)
+            .map(|(_, r)| *r)
+    };
+    for peer in &peers {
+        for config in configs.iter().filter(|c| !peers.contains(c)) {
+            let (mut both, mut only_hipop, mut only_peer) = (0, 0, 0);
+            let (mut times, mut spans) = (Vec::new(), Vec::new());
+            for (j, r) in runs.iter().filter(|(j, _)| &j.config == config) {
+                let Some(p) = find(peer, j) else { continue };
+                match (r.solved() && !r.invalid(), p.solved() && !p.invalid()) {
+                    (true, true) => {
+                        both += 1;
+                        if p.wall > 0.0 {
+                            times.push(r.wall / p.wall);
+                        }
+                        if let (Some(a), Some(b)) = (r.makespan, p.makespan)
+                            && b > 0.0
+                        {
+                            spans.push(a / b);
+                        }
+                    }
+                    (true, false) => only_hipop += 1,
+                    (false, true) => only_peer += 1,
+                    (false, false) => {}
+                }
+            }
+            let ratio = |v: Vec<f64>| median(v).map(|m| format!("{m:.2}")).unwrap_or("–".into());
+            let _ = writeln!(
+                out,
+                "| {config} | {peer} | {both} | {only_hipop} | {only_peer} | {} | {} |",
+                ratio(times),
+                ratio(spans)
+            );
+        }
+    }
 }
 
 pub(crate) fn csv_field(s: &str) -> String {
