@@ -188,7 +188,7 @@ pub(crate) fn peer_one(domain: &str, problem: &str, peer: &str, limit: &str, pre
         let hierarchical = text.contains("==>");
         let key = if hierarchical { "hier" } else { "val" };
         let ext = if hierarchical { "hier.plan" } else { "plan" };
-        validate_texts(&mut out, &mut host, pf, vec![(key, ext, text.clone())], prefix);
+        validate_texts(&mut out, &mut host, pf, vec![(key, ext, text.clone())], prefix, false);
         if hierarchical {
             // One validation checks both: the primitive plan runs, and the
             // hierarchy decomposes the task network into it.
