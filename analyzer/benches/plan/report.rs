@@ -404,7 +404,7 @@ pub(crate) fn side_by_side(out: &mut String, configs: &[String], runs: &[(&Job, 
         out,
         "\nSide by side (same problems, same limit, same run; a peer's time is its whole run, \
          parsing and grounding included; ratios are hipop's over the peer's, on the problems both solve):\n\n\
-         | hipop | peer | both solve | only hipop | only the peer | median time ratio | median makespan ratio |\n\
+         | hipop | peer | both solve | only hipop | only the peer | median time ratio | median makespan ratio (pandapi: length) |\n\
          |---|---|---|---|---|---|---|"
     );
     let find = |config: &str, j: &Job| {
@@ -424,7 +424,12 @@ pub(crate) fn side_by_side(out: &mut String, configs: &[String], runs: &[(&Job, 
                         if p.wall > 0.0 {
                             times.push(r.wall / p.wall);
                         }
-                        if let (Some(a), Some(b)) = (r.makespan, p.makespan)
+                        // A hierarchical plan's quality is its length: pandaPI's
+                        // plans are sequences.
+                        let quality = |r: &Run| {
+                            if peer.as_str() == "pandapi" { r.length.map(|l| l as f64) } else { r.makespan }
+                        };
+                        if let (Some(a), Some(b)) = (quality(r), quality(p))
                             && b > 0.0
                         {
                             spans.push(a / b);
