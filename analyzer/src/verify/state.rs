@@ -175,9 +175,21 @@ pub struct Atoms {
     data: Vec<u32>,
     /// Where each atom starts in `data`; one more entry for the end.
     starts: Vec<u32>,
-    /// Atoms by the hash of their key (several when hashes collide).
-    index: FxHashMap<u64, smallvec::SmallVec<[AtomId; 1]>>,
+    /// Atoms by the hash of their key: ids only, the keys are in `data`.
+    index: AtomIndex,
 }
+
+/// The ids of [`Atoms`] in a hash table (4 bytes an atom).
+#[derive(Debug, Clone, Default)]
+struct AtomIndex(hashbrown::HashTable<AtomId>);
+
+/// The index follows from `data` and `starts`: equal atoms, equal indices.
+impl PartialEq for AtomIndex {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+impl Eq for AtomIndex {}
 
 /// Slice equality without a call to `memcmp`: keys have a handful of elements.
 pub(crate) fn same(a: &[u32], b: &[u32]) -> bool {
@@ -203,7 +215,7 @@ impl Atoms {
     }
 
     fn lookup(&self, key: &[u32], h: u64) -> Option<AtomId> {
-        self.index.get(&h)?.iter().copied().find(|&a| same(self.key(a), key))
+        self.index.0.find(h, |&a| same(self.key(a), key)).copied()
     }
 
     /// `key` is `[pred, args…]`.
@@ -218,7 +230,11 @@ impl Atoms {
         let id = (self.starts.len() - 1) as AtomId;
         self.data.extend_from_slice(key);
         self.starts.push(self.data.len() as u32);
-        self.index.entry(h).or_default().push(id);
+        let Atoms { data, starts, index } = self;
+        index.0.insert_unique(h, id, |&a| {
+            let i = a as usize;
+            hash_key(&data[starts[i] as usize..starts[i + 1] as usize])
+        });
         id
     }
 
