@@ -248,10 +248,10 @@ impl<'db> Env<'_, 'db> {
             }
             CExpr::Fluent { func, args: fargs, dynamic, span } => {
                 let fargs = fargs.iter().map(|a| self.term(a, args)).collect::<Result<Objs, _>>()?;
-                match (self.init.fluent(*func, &fargs), dynamic) {
+                match (self.init.fluent_value(*func, &fargs), dynamic) {
                     // Its value at the start is not its value when the action runs.
                     (_, true) => Ok(Val::Dynamic),
-                    (Some((v, _)), false) => Ok(Val::Known(v)),
+                    (Some(v), false) => Ok(Val::Known(v)),
                     (None, false) => Err(Failure {
                         span: *span,
                         why: format!("`{}` has no value in `:init`", self.show_fluent(*func, &fargs)),

@@ -460,6 +460,22 @@ pub fn ground_with_relevance<'db>(
     for k in 0..fix.instances.len() {
         by_op[fix.instances.get(k).0].push(k as u32);
     }
+    // Their exact number, and at most this much for their lists: no
+    // doubling past what is needed (a truncated grounding has 200,000).
+    let lists_len: usize = by_op
+        .iter()
+        .zip(&compiled)
+        .map(|(found, c)| {
+            let per = c.spec_add.spec.domains().len()
+                + c.pre.len()
+                + c.neg.len()
+                + c.spec_add.add.len()
+                + c.del.len();
+            found.len() * per
+        })
+        .sum();
+    g.operators.reserve_exact(fix.instances.len());
+    g.lists.reserve_exact(lists_len);
     let mut key = Vec::new();
     for (schema, (((item, op), c), mut found)) in ops.iter().zip(&compiled).zip(by_op).enumerate() {
         found.sort_unstable_by(|&x, &y| {

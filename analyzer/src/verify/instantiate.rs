@@ -286,6 +286,7 @@ impl Facts {
 /// by the values of `key_params`. Atoms that disagree with the pattern's
 /// objects or repeated parameters are left out.
 struct Index {
+    pred: PredId,
     pattern: Vec<Arg>,
     key_params: Vec<u32>,
     q: u32,
@@ -337,17 +338,33 @@ impl Index {
 pub(crate) struct Indexes {
     list: Vec<Index>,
     by_pred: FxHashMap<PredId, Vec<usize>>,
-    shared: FxHashMap<(PredId, Vec<Arg>, Vec<u32>, u32), usize>,
+    /// Each index by the hash of (predicate, pattern, key parameters,
+    /// parameter): plans ask for the same ones again and again, and a
+    /// lookup allocates nothing.
+    shared: hashbrown::HashTable<usize>,
+}
+
+fn index_hash(pred: PredId, pattern: &[Arg], key_params: &[u32], q: u32) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = rustc_hash::FxHasher::default();
+    (pred, pattern, key_params, q).hash(&mut h);
+    h.finish()
 }
 
 impl Indexes {
     fn get(&mut self, a: &CAtom, key_params: Vec<u32>, q: u32, facts: &Facts, atoms: &Atoms) -> usize {
-        let id = (a.pred, a.args.clone(), key_params.clone(), q);
-        if let Some(&i) = self.shared.get(&id) {
+        let h = index_hash(a.pred, &a.args, &key_params, q);
+        let list = &self.list;
+        let same = |&i: &usize| {
+            let x = &list[i];
+            x.pred == a.pred && x.q == q && x.pattern == a.args && x.key_params == key_params
+        };
+        if let Some(&i) = self.shared.find(h, same) {
             return i;
         }
         let others = a.params().any(|x| x != q && !key_params.contains(&x));
         let mut index = Index {
+            pred: a.pred,
             pattern: a.args.clone(),
             key_params,
             q,
@@ -361,7 +378,11 @@ impl Indexes {
         let i = self.list.len();
         self.list.push(index);
         self.by_pred.entry(a.pred).or_default().push(i);
-        self.shared.insert(id, i);
+        let list = &self.list;
+        self.shared.insert_unique(h, i, |&j| {
+            let x = &list[j];
+            index_hash(x.pred, &x.pattern, &x.key_params, x.q)
+        });
         i
     }
 
@@ -677,8 +698,9 @@ pub(crate) struct Instances {
     /// Each operator's arity.
     arity: Vec<u32>,
     /// Instances by the hash of (operator, arguments), for deduplication
-    /// without a key allocation per instance.
-    by_hash: FxHashMap<u64, smallvec::SmallVec<[u32; 2]>>,
+    /// without a key allocation per instance: the table holds indices only
+    /// (4 bytes an instance; a truncated grounding has 200,000 of them).
+    by_hash: hashbrown::HashTable<u32>,
 }
 
 impl Instances {
@@ -697,19 +719,24 @@ impl Instances {
         (op as usize, &self.args[at as usize..at as usize + n])
     }
 
-    /// The hash of an instance, and whether it is known.
-    fn find(&self, op: usize, args: &[ObjId]) -> (u64, bool) {
+    fn hash(op: usize, args: &[ObjId]) -> u64 {
         use std::hash::{Hash, Hasher};
         let mut h = rustc_hash::FxHasher::default();
         op.hash(&mut h);
         args.hash(&mut h);
-        let h = h.finish();
-        let known = self.by_hash.get(&h).is_some_and(|same| {
-            same.iter().any(|&i| {
+        h.finish()
+    }
+
+    /// The hash of an instance, and whether it is known.
+    fn find(&self, op: usize, args: &[ObjId]) -> (u64, bool) {
+        let h = Self::hash(op, args);
+        let known = self
+            .by_hash
+            .find(h, |&i| {
                 let (o, a) = self.get(i as usize);
                 o == op && super::state::same(a, args)
             })
-        });
+            .is_some();
         (h, known)
     }
 
@@ -718,7 +745,12 @@ impl Instances {
         let i = self.found.len() as u32;
         self.found.push((op as u32, self.args.len() as u32));
         self.args.extend_from_slice(args);
-        self.by_hash.entry(h).or_default().push(i);
+        let Instances { found, args: all, arity, by_hash } = self;
+        by_hash.insert_unique(h, i, |&j| {
+            let (o, at) = found[j as usize];
+            let n = arity[o as usize] as usize;
+            Self::hash(o as usize, &all[at as usize..at as usize + n])
+        });
         i
     }
 }
@@ -730,6 +762,51 @@ pub(crate) struct Fixpoint {
     pub reached: Vec<bool>,
     /// Whether it stopped at a limit (the instances are then incomplete).
     pub truncated: bool,
+}
+
+/// The seeded plans of one predicate, in the order they were made (operator,
+/// then precondition), and by the first object their seed's pattern names:
+/// a nearly ground domain (the IPC Airport domains: a `move` per pair of
+/// segments) has thousands of plans seeded on `(at-segment ?a seg_3)`, of
+/// which a new atom can only match those naming its own segment.
+#[derive(Default)]
+struct SeededPlans {
+    plans: Vec<(usize, Plan)>,
+    /// The plans whose seed has no object.
+    open: Vec<u32>,
+    /// The others, by the position and object of the first object.
+    by_object: FxHashMap<(u32, ObjId), Vec<u32>>,
+}
+
+impl SeededPlans {
+    fn push(&mut self, op: usize, plan: Plan, pattern: &[Arg]) {
+        let k = self.plans.len() as u32;
+        let first = pattern.iter().enumerate().find_map(|(at, x)| match *x {
+            Arg::Obj(o) => Some((at as u32, o)),
+            Arg::Param(_) => None,
+        });
+        match first {
+            Some(key) => self.by_object.entry(key).or_default().push(k),
+            None => self.open.push(k),
+        }
+        self.plans.push((op, plan));
+    }
+
+    /// The plans an atom of these arguments may seed, in the order made; the
+    /// others name another object where the atom has its own, and
+    /// [`Search::run_seeded`] would reject them without a search.
+    fn matching(&self, args: &[ObjId], out: &mut Vec<u32>) {
+        out.clear();
+        out.extend_from_slice(&self.open);
+        if !self.by_object.is_empty() {
+            for (at, &o) in args.iter().enumerate() {
+                if let Some(ks) = self.by_object.get(&(at as u32, o)) {
+                    out.extend_from_slice(ks);
+                }
+            }
+            out.sort_unstable();
+        }
+    }
 }
 
 /// Instantiates `ops` together with relaxed reachability from `start` (the
@@ -752,15 +829,16 @@ pub(crate) fn fixpoint(
         .map(|op| (!op.spec.disabled).then(|| Plan::new(&op.spec, None, &mut indexes, &facts, atoms)))
         .collect();
     // The seeded plans, by the predicate of their seed.
-    let mut seeded: FxHashMap<PredId, Vec<(usize, Plan)>> = FxHashMap::default();
+    let mut seeded: FxHashMap<PredId, SeededPlans> = FxHashMap::default();
     for (i, op) in ops.iter().enumerate().filter(|(_, op)| !op.spec.disabled) {
         for j in 0..op.spec.pos.len() {
             let plan = Plan::new(&op.spec, Some(j), &mut indexes, &facts, atoms);
             if let Some(p) = plan.seed_pred(&op.spec) {
-                seeded.entry(p).or_default().push((i, plan));
+                seeded.entry(p).or_default().push(i, plan, &op.spec.pos[j].args);
             }
         }
     }
+    let mut matching: Vec<u32> = Vec::new();
 
     let mut instances = Instances::new(ops.iter().map(|op| op.spec.domains.len() as u32).collect());
     // Instances found but whose effects are not reached yet.
@@ -813,7 +891,9 @@ pub(crate) fn fixpoint(
         }
         'round: for a in delta.drain(..) {
             let Some(plans) = seeded.get(&atoms.pred(a)) else { continue };
-            for (i, plan) in plans {
+            plans.matching(atoms.args(a), &mut matching);
+            for &k in &matching {
+                let (i, plan) = &plans.plans[k as usize];
                 let i = *i;
                 let mut search = Search {
                     spec: &ops[i].spec,

@@ -175,9 +175,21 @@ pub struct Atoms {
     data: Vec<u32>,
     /// Where each atom starts in `data`; one more entry for the end.
     starts: Vec<u32>,
-    /// Atoms by the hash of their key (several when hashes collide).
-    index: FxHashMap<u64, smallvec::SmallVec<[AtomId; 1]>>,
+    /// Atoms by the hash of their key: ids only, the keys are in `data`.
+    index: AtomIndex,
 }
+
+/// The ids of [`Atoms`] in a hash table (4 bytes an atom).
+#[derive(Debug, Clone, Default)]
+struct AtomIndex(hashbrown::HashTable<AtomId>);
+
+/// The index follows from `data` and `starts`: equal atoms, equal indices.
+impl PartialEq for AtomIndex {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+impl Eq for AtomIndex {}
 
 /// Slice equality without a call to `memcmp`: keys have a handful of elements.
 pub(crate) fn same(a: &[u32], b: &[u32]) -> bool {
@@ -203,7 +215,7 @@ impl Atoms {
     }
 
     fn lookup(&self, key: &[u32], h: u64) -> Option<AtomId> {
-        self.index.get(&h)?.iter().copied().find(|&a| same(self.key(a), key))
+        self.index.0.find(h, |&a| same(self.key(a), key)).copied()
     }
 
     /// `key` is `[pred, args…]`.
@@ -218,7 +230,11 @@ impl Atoms {
         let id = (self.starts.len() - 1) as AtomId;
         self.data.extend_from_slice(key);
         self.starts.push(self.data.len() as u32);
-        self.index.entry(h).or_default().push(id);
+        let Atoms { data, starts, index } = self;
+        index.0.insert_unique(h, id, |&a| {
+            let i = a as usize;
+            hash_key(&data[starts[i] as usize..starts[i + 1] as usize])
+        });
         id
     }
 
@@ -278,11 +294,109 @@ pub struct InitialState<'db> {
     pub object_fluents: FxHashMap<Box<[u32]>, (ObjId, Loc<'db>)>,
     /// Whether an atom is true at the start, by id (atoms met after `:init` are false).
     truth: Vec<bool>,
+    /// The values of `fluents` again, in arrays for the functions whose
+    /// argument tuples are few enough: durations read them once per ground
+    /// instance (200,000 `slew_time` lookups for a Satellite problem), and a
+    /// hash table of 77,562 boxed keys costs a cache miss or two each.
+    dense: DenseFluents,
     /// The first `:init` item, to point at the initial state as a whole.
     pub first_item: Option<Item<'db>>,
 }
 
+/// Per function (by id), its arity and its values by argument tuple,
+/// `args[0] * n^(k-1) + … + args[k-1]` over the `n` objects, NaN where
+/// `:init` gives none (a value of `:init` is never NaN: [`constant`]); no
+/// array for a function left to the hash table.
+#[derive(Debug, Clone, Default)]
+struct DenseFluents {
+    objects: usize,
+    values: Vec<(usize, Vec<f64>)>,
+}
+
+/// The arrays follow from `fluents`, compared on their own: equal states,
+/// equal arrays (and NaN, which is not equal to itself, would make a state
+/// unequal to itself).
+impl PartialEq for DenseFluents {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl DenseFluents {
+    /// At most this many entries per function, and at most four per value
+    /// `:init` gives it: sparse functions keep the hash table alone.
+    const MAX_ENTRIES: usize = 1 << 22;
+
+    fn new(fluents: &FxHashMap<Box<[u32]>, (f64, Loc<'_>)>, objects: usize) -> DenseFluents {
+        // Per function: its arity (None when two values disagree on it) and count.
+        let mut shape: Vec<(Option<usize>, usize)> = Vec::new();
+        for key in fluents.keys() {
+            let (f, arity) = (key[0] as usize, key.len() - 1);
+            if shape.len() <= f {
+                shape.resize(f + 1, (None, 0));
+            }
+            let s = &mut shape[f];
+            s.0 = if s.1 == 0 || s.0 == Some(arity) { Some(arity) } else { None };
+            s.1 += 1;
+        }
+        let values = shape
+            .iter()
+            .map(|&(arity, count)| {
+                let Some(arity) = arity else { return (0, Vec::new()) };
+                match objects.checked_pow(arity as u32) {
+                    Some(n) if n <= Self::MAX_ENTRIES && n <= count.saturating_mul(4).max(64) => {
+                        (arity, vec![f64::NAN; n])
+                    }
+                    _ => (0, Vec::new()),
+                }
+            })
+            .collect();
+        let mut out = DenseFluents { objects, values };
+        for (key, &(v, _)) in fluents {
+            if let Some(i) = out.slot(key[0], &key[1..]) {
+                out.values[key[0] as usize].1[i] = v;
+            }
+        }
+        out
+    }
+
+    /// Where `(func args…)` is in its function's array, if it has one.
+    fn slot(&self, func: FuncId, args: &[ObjId]) -> Option<usize> {
+        let (arity, values) = self.values.get(func as usize).filter(|(_, v)| !v.is_empty())?;
+        if args.len() != *arity {
+            return None;
+        }
+        let mut at = 0usize;
+        for &a in args {
+            if a as usize >= self.objects {
+                return None;
+            }
+            at = at * self.objects + a as usize;
+        }
+        (at < values.len()).then_some(at)
+    }
+
+    /// `Some(value or None)` when the function has an array, `None` when the
+    /// hash table must tell.
+    fn get(&self, func: FuncId, args: &[ObjId]) -> Option<Option<f64>> {
+        let (arity, values) = self.values.get(func as usize).filter(|(_, v)| !v.is_empty())?;
+        if args.len() != *arity {
+            return None;
+        }
+        Some(self.slot(func, args).map(|i| values[i]).filter(|v| !v.is_nan()))
+    }
+}
+
 impl<'db> InitialState<'db> {
+    /// The value of a numeric fluent `(func args…)`, without its location:
+    /// what evaluating a duration reads.
+    pub fn fluent_value(&self, func: FuncId, args: &[ObjId]) -> Option<f64> {
+        match self.dense.get(func, args) {
+            Some(v) => v,
+            None => self.fluent(func, args).map(|(v, _)| v),
+        }
+    }
+
     /// Whether the atom is true in the initial state.
     pub fn holds(&self, atom: AtomId) -> bool {
         self.truth.get(atom as usize).copied().unwrap_or(false)
@@ -382,6 +496,7 @@ pub(crate) fn initial_state<'db>(
             }
         }
     }
+    init.dense = DenseFluents::new(&init.fluents, objects.len());
     init.truth = vec![false; atoms.len()];
     for &(a, _) in &init.facts {
         init.truth[a as usize] = true;
