@@ -194,8 +194,9 @@ struct PlanArgs {
     /// parts among `AR` (advance reuse) or `R` (reuse), `time`, `local`,
     /// `sorted` or `threatFirst` (open-link order), `motion` or `ncm`
     /// (geometric reasoning), `eager` (every threat as soon as it appears),
-    /// `nolookahead` (A* without the greedy completion), `bare` (ignore
-    /// abstract actions). `AR-time-local-motion-eager-nolookahead` is the
+    /// `nolookahead` (A* without the greedy completion), `nosteps` (no open
+    /// list ranked by plan size), `bare` (ignore abstract actions).
+    /// `AR-time-local-motion-eager-nolookahead-nosteps` is the
     /// paper's search (docs/planner.md).
     #[arg(long, value_name = "NAME", default_value = hipop_analyzer::planner::Config::DEFAULT, value_parser = plan::parse_config)]
     config: hipop_analyzer::planner::Config,

@@ -85,6 +85,11 @@ pub struct Config {
     /// completion, and of the plan at hand after 1024, 2048… expansions;
     /// `nolookahead` turns it off (A* alone, as in the paper).
     pub lookahead: bool,
+    /// A second open list ranked by plan size (VHPOP's plan ranking: the
+    /// steps plus the unit-cost estimate of the open links), expanded in
+    /// turn with the makespan's (`nosteps`: the makespan's alone). Problems
+    /// with an `:htn` use the makespan's alone.
+    pub steps: bool,
 }
 
 impl Default for Config {
@@ -113,7 +118,8 @@ impl Config {
     /// h_add without), `time` (the objective, always the makespan),
     /// `local`/`sorted`/`threatFirst` (open links; `local` without),
     /// `motion`/`ncm` (geometric reasoning; none without), `eager` (every
-    /// threat first), `nolookahead` (no greedy completion), `bare`. `bare` alone is the default configuration
+    /// threat first), `nolookahead` (no greedy completion), `nosteps` (no
+    /// open list ranked by plan size), `bare`. `bare` alone is the default configuration
     /// without abstract actions.
     pub fn parse(name: &str) -> Result<Config, String> {
         if name.eq_ignore_ascii_case("bare") {
@@ -126,6 +132,7 @@ impl Config {
             bare: false,
             eager: false,
             lookahead: true,
+            steps: true,
         };
         for part in name.split('-').filter(|p| !p.is_empty()) {
             match part.to_ascii_lowercase().as_str() {
@@ -141,9 +148,10 @@ impl Config {
                 "bare" => c.bare = true,
                 "eager" => c.eager = true,
                 "nolookahead" => c.lookahead = false,
+                "nosteps" => c.steps = false,
                 other => {
                     return Err(format!(
-                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, bare)"
+                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, bare)"
                     ));
                 }
             }
@@ -177,6 +185,9 @@ impl Config {
         }
         if !self.lookahead {
             parts.push("nolookahead");
+        }
+        if !self.steps {
+            parts.push("nosteps");
         }
         parts.join("-")
     }
@@ -556,6 +567,11 @@ impl<'db> Prepared<'db> {
         let task = &self.task;
         let h = &self.h;
         let mut stats = Stats { operators: task.ops.len(), methods: task.methods.len(), ..Stats::default() };
+        // A repair adds to its start plan and wants the shortest schedule
+        // near the old one: plan size would lead it to the fewest new steps
+        // (a far robot's long trip rather than a near one's), not there.
+        let repair = Config { steps: false, ..config.clone() };
+        let config = if seed.is_some() { &repair } else { config };
         let search = search::Search::new(task, h, config);
         let roots = match seed {
             None => search.initial(),

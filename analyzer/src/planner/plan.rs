@@ -135,6 +135,23 @@ pub struct OldSchedule {
     pub makespan: f64,
 }
 
+/// Appends to a flaw list that the plan may share with others: a list of
+/// its own takes the items in place; a shared one is copied once, at its
+/// new length. (`Rc::make_mut` copies at the old length, and the append
+/// then doubles the copy's capacity: up to twice the list for each child
+/// plan that adds a step or a link, most of them never expanded.)
+fn extend_shared<T: Clone>(list: &mut Rc<Vec<T>>, items: impl IntoIterator<Item = T>) {
+    if let Some(own) = Rc::get_mut(list) {
+        own.extend(items);
+        return;
+    }
+    let items: Vec<T> = items.into_iter().collect();
+    let mut copy = Vec::with_capacity(list.len() + items.len());
+    copy.extend_from_slice(list);
+    copy.extend(items);
+    *list = Rc::new(copy);
+}
+
 pub const INIT: u32 = 0;
 pub const GOAL: u32 = 1;
 
@@ -355,7 +372,7 @@ impl Plan {
             found.extend(kinds.iter().map(|&kind| Threat { link: i as u32, step: k, kind }));
         }
         if !found.is_empty() {
-            Rc::make_mut(&mut self.threats).extend(found);
+            extend_shared(&mut self.threats, found);
         }
     }
 
@@ -374,7 +391,7 @@ impl Plan {
             found.extend(kinds.iter().map(|&kind| Threat { link: i, step: k, kind }));
         }
         if !found.is_empty() {
-            Rc::make_mut(&mut self.threats).extend(found);
+            extend_shared(&mut self.threats, found);
         }
     }
 
@@ -427,7 +444,7 @@ impl Plan {
             }
         }
         if !found.is_empty() {
-            Rc::make_mut(&mut self.threats).extend(found);
+            extend_shared(&mut self.threats, found);
         }
     }
 
@@ -503,7 +520,7 @@ impl Plan {
             });
         }
         if !opens.is_empty() {
-            Rc::make_mut(&mut self.open).extend(opens);
+            extend_shared(&mut self.open, opens);
         }
         if op.is_abstract {
             Rc::make_mut(&mut self.abstracts).push(s);
@@ -514,7 +531,7 @@ impl Plan {
 
     /// Adds an open link of another origin (goal, method precondition, abstract effect).
     pub fn add_open(&mut self, o: Open) {
-        Rc::make_mut(&mut self.open).push(o);
+        extend_shared(&mut self.open, [o]);
     }
 
     /// Adds the causal link `from —lit→ open` and its threats.
@@ -553,5 +570,26 @@ impl Plan {
 
     pub fn remove_open(&mut self, i: usize) -> Open {
         Rc::make_mut(&mut self.open).remove(i)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A child that adds to a flaw list it shares copies it once, at its
+    /// new length; a list of its own grows in place.
+    #[test]
+    fn shared_flaw_lists_are_copied_at_their_new_length() {
+        let parent: Rc<Vec<u32>> = Rc::new((0..20).collect());
+        let mut child = Rc::clone(&parent);
+        extend_shared(&mut child, [20, 21, 22]);
+        assert_eq!(child.len(), 23);
+        assert_eq!(child.capacity(), 23);
+        assert_eq!(parent.len(), 20);
+        let before = Rc::as_ptr(&child);
+        extend_shared(&mut child, [23]);
+        assert_eq!(Rc::as_ptr(&child), before);
+        assert_eq!(child[23], 23);
     }
 }

@@ -50,12 +50,26 @@ impl<T: Clone> PVec<T> {
 
     pub fn push(&mut self, value: T) {
         if self.len.is_multiple_of(CHUNK) {
-            let mut chunk = Vec::with_capacity(CHUNK);
+            // Room for two: most plans are children that add a step (two
+            // time points) and are never expanded; the chunk grows as
+            // the plans that are expanded add more.
+            let mut chunk = Vec::with_capacity(2);
             chunk.push(value);
             self.chunks.push(Rc::new(chunk));
         } else {
             let last = self.chunks.last_mut().expect("a partial chunk exists");
-            Rc::make_mut(last).push(value);
+            match Rc::get_mut(last) {
+                Some(own) => own.push(value),
+                None => {
+                    // A shared chunk is copied with room for this element
+                    // and one more (a step adds two time points), not at
+                    // its length, which the push would then double.
+                    let mut copy = Vec::with_capacity((last.len() + 2).min(CHUNK));
+                    copy.extend_from_slice(last);
+                    copy.push(value);
+                    *last = Rc::new(copy);
+                }
+            }
         }
         self.len += 1;
     }
@@ -112,5 +126,24 @@ mod tests {
         assert_eq!(a.len(), 101);
         assert_eq!(a.iter().copied().filter(|&x| x == 7).count(), 2);
         assert!(a.get(101).is_none());
+    }
+
+    /// A child plan that pushes onto a chunk it shares with its parent
+    /// copies the chunk with room for two more, not at its length (which
+    /// the push would then double), and a new chunk starts small: most
+    /// children are never expanded.
+    #[test]
+    fn a_shared_chunk_is_copied_at_its_new_length() {
+        let parent: PVec<u64> = (0..17).collect();
+        let mut child = parent.clone();
+        child.push(17);
+        let last = child.chunks.last().expect("a chunk");
+        assert_eq!(last.len(), 18);
+        assert!(last.capacity() <= 19, "capacity {}", last.capacity());
+        assert_eq!(parent.len(), 17);
+        let full: PVec<u64> = (0..CHUNK as u64).collect();
+        let mut child = full.clone();
+        child.push(0);
+        assert!(child.chunks.last().expect("a chunk").capacity() <= 2);
     }
 }

@@ -5,8 +5,11 @@
 //!   earliest schedule (or the busiest agent's work, when larger) plus what
 //!   its threats must cost and a step cost, `h` the estimates of its open
 //!   links and abstract flaws ([`cost`]); ties broken on the remaining
-//!   effort, the smaller plan, then last in, first out. A plan entering its
-//!   completion gets a greedy depth-first descent first ([`Search::probe`]).
+//!   effort, the smaller plan, then last in, first out. A second open list
+//!   ranks the same plans by size (steps plus the estimate in actions,
+//!   VHPOP's `ADDR`), and the two are expanded in turn ([`Open`]). A plan
+//!   entering its completion gets a greedy depth-first descent first
+//!   ([`Search::probe`]).
 //! - Flaw selection ([`flaws`]): which flaw of a plan is solved next.
 //! - Resolvers ([`resolvers`]): the children that solve it, and the initial
 //!   plans.
@@ -22,6 +25,7 @@ pub use seed::{Seed, SeedError, SeedOrder, SeedStep, Seeded};
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
+use std::rc::Rc;
 use std::time::Instant;
 
 use super::heuristic::Heuristic;
@@ -39,49 +43,122 @@ use super::{Config, LimitKind, Motion, PlannerLimits, Progress, Quality, Stats};
 /// makespan decides: measured neutral on the benchmarks' makespans.
 const STEP_COST: f64 = 0.02;
 
-/// A plan in the open list.
-/// The open list, left unfreed at its end when the process exits next
-/// ([`PlannerLimits::exits_after`]).
+/// Expansions (greedy completions included) by the makespan's open list
+/// alone before the one ranked by plan size takes turns with it: a problem
+/// the makespan's solves at once keeps its plan (the plan size's may find
+/// a smaller plan of a longer makespan first: a far robot's trip of as
+/// many steps as a near one's), and its size list only costs its nodes.
+const SIZE_LANE_AFTER: u64 = 1000;
+
+/// The open lists, left unfreed at their end when the process exits next
+/// ([`PlannerLimits::exits_after`]): one ranked by `f` (the makespan and
+/// the estimates in time), and, unless the configuration says `nosteps`,
+/// one ranked by plan size (the steps and the estimates in actions),
+/// expanded in turn. A plan is in both; the first to reach it expands it,
+/// and the other drops it when it comes to it.
 struct Open {
-    heap: BinaryHeap<Node>,
+    lanes: Vec<BinaryHeap<Node>>,
+    /// The lanes that expand: the makespan's alone for the first
+    /// [`SIZE_LANE_AFTER`] expansions, then all.
+    active: usize,
+    /// Plans not expanded yet.
+    live: usize,
+    /// The lane that expands next.
+    turn: usize,
     free: bool,
 }
 
-impl std::ops::Deref for Open {
-    type Target = BinaryHeap<Node>;
-    fn deref(&self) -> &BinaryHeap<Node> {
-        &self.heap
+impl Open {
+    fn new(lanes: usize, free: bool) -> Open {
+        Open {
+            lanes: (0..lanes.max(1)).map(|_| BinaryHeap::new()).collect(),
+            active: 1,
+            live: 0,
+            turn: 0,
+            free,
+        }
     }
-}
 
-impl std::ops::DerefMut for Open {
-    fn deref_mut(&mut self) -> &mut BinaryHeap<Node> {
-        &mut self.heap
+    fn len(&self) -> usize {
+        self.live
+    }
+
+    /// Adds a plan, ranked in each lane by its key there (`f`, effort).
+    fn push(&mut self, entry: Entry, keys: [(f64, f64); 2], size: usize, id: u64) {
+        let entry = Rc::new(entry);
+        for (lane, &(f, effort)) in self.lanes.iter_mut().zip(&keys) {
+            lane.push(Node { f, effort, size, id, entry: Rc::clone(&entry) });
+        }
+        self.live += 1;
+    }
+
+    /// Keeps the makespan's lane alone (a plan is known: the search now
+    /// looks for a shorter one).
+    fn makespan_only(&mut self) {
+        if self.lanes.len() > 1 {
+            self.active = 1;
+            let rest = self.lanes.split_off(1);
+            if self.free {
+                drop(rest);
+            } else {
+                std::mem::forget(rest);
+            }
+            self.turn = 0;
+        }
+    }
+
+    /// The next plan to expand: the best of the active lane whose turn it
+    /// is (or of another, when that one is empty), with its entry.
+    fn pop(&mut self) -> Option<(Rc<Entry>, Plan)> {
+        let n = self.active;
+        for k in 0..n {
+            let lane = (self.turn + k) % n;
+            while let Some(node) = self.lanes[lane].pop() {
+                let taken = node.entry.plan.borrow_mut().take();
+                if let Some(plan) = taken {
+                    self.turn = (lane + 1) % n;
+                    self.live -= 1;
+                    return Some((node.entry, plan));
+                }
+            }
+        }
+        None
     }
 }
 
 impl Drop for Open {
     fn drop(&mut self) {
         if !self.free {
-            std::mem::forget(std::mem::take(&mut self.heap));
+            std::mem::forget(std::mem::take(&mut self.lanes));
         }
     }
 }
 
-struct Node {
+/// A plan in the open lists.
+struct Entry {
+    /// Its `f` (the makespan's lane), for progress reports.
     f: f64,
     /// The makespan of its earliest schedule, which no completion of the
     /// plan shortens: the bound of a search that goes on after a plan.
     span: f64,
     /// Its lineage had a greedy completion already.
     probed: bool,
+    /// Taken by the lane that expands it.
+    plan: std::cell::RefCell<Option<Plan>>,
+}
+
+/// A plan's place in one lane.
+struct Node {
+    /// `f` in the makespan's lane; the steps and the estimate in actions
+    /// in the plan size's.
+    f: f64,
     effort: f64,
     /// Steps: a smaller plan first among equals (a chain of steps that
     /// cost nothing, parallel in the makespan and free in h by reuse,
     /// must not hide the sibling that links to a step already there).
     size: usize,
     id: u64,
-    plan: Plan,
+    entry: Rc<Entry>,
 }
 
 impl PartialEq for Node {
@@ -159,6 +236,20 @@ impl<'a, 'db> Search<'a, 'db> {
         let (busiest, total) = self.work(plan);
         let span = plan.makespan();
         Some((span.max(busiest) + penalty + STEP_COST * total, h, effort, span))
+    }
+
+    /// A plan's rank in the lane of plan size: its steps plus the estimate
+    /// of its flaws in actions (VHPOP's `ADDR` with unit action costs).
+    fn size_rank(&self, plan: &Plan, effort: f64) -> f64 {
+        (plan.steps.len() - 2 - self.task.tils.len()) as f64 + effort
+    }
+
+    /// The open lists of a search: with the lane of plan size while it
+    /// looks for a first plan, unless the configuration says `nosteps` or
+    /// the problem has an `:htn`. A search bounded by a known plan looks for
+    /// a shorter makespan, which plan size does not lead to.
+    fn lanes(&self, limits: &PlannerLimits) -> usize {
+        if self.config.steps && self.task.htn.is_none() && limits.better_than.is_none() { 2 } else { 1 }
     }
 
     /// Whether a flaw belongs to the completion of a plan: what is left
@@ -248,7 +339,7 @@ impl<'a, 'db> Search<'a, 'db> {
         best: &mut Option<Plan>,
     ) -> End2 {
         let started = Instant::now();
-        let mut heap = Open { heap: BinaryHeap::new(), free: !limits.exits_after };
+        let mut heap = Open::new(self.lanes(limits), !limits.exits_after);
         let mut id = 0u64;
         // The most advanced plan: the fewest open links and abstract flaws
         // (its threats are what stopped it, if anything).
@@ -267,7 +358,9 @@ impl<'a, 'db> Search<'a, 'db> {
                     id += 1;
                     stats.generated += 1;
                     let size = root.steps.len();
-                    heap.push(Node { f: g + h, span, effort, size, id, probed: false, plan: root });
+                    let keys = [(g + h, effort), (self.size_rank(&root, effort), effort)];
+                    let entry = Entry { f: g + h, span, probed: false, plan: Some(root).into() };
+                    heap.push(entry, keys, size, id);
                 }
                 None => keep_best(&root, best, &mut best_effort),
             }
@@ -285,9 +378,10 @@ impl<'a, 'db> Search<'a, 'db> {
         let found = |plan: Plan,
                      stats: &mut Stats,
                      incumbent: &mut Option<(Plan, Quality)>,
-                     open: usize,
+                     heap: &mut Open,
                      progress: &mut dyn FnMut(&Progress)|
          -> Option<End2> {
+            let open = heap.len();
             let elapsed = started.elapsed();
             let quality = Quality { makespan: plan.makespan(), cost: self.solution_cost(&plan) };
             let known = incumbent.as_ref().map(|(_, q)| *q).or(limits.better_than);
@@ -312,6 +406,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 improved: true,
             });
             *incumbent = Some((plan, quality));
+            heap.makespan_only();
             None
         };
         // How a search that goes on ends: with its best plan, if any.
@@ -325,14 +420,16 @@ impl<'a, 'db> Search<'a, 'db> {
                 (end, _) => end,
             };
         let end = loop {
-            let Some(node) = heap.pop() else { break End2::Exhausted };
+            if heap.active < heap.lanes.len() && stats.expanded >= SIZE_LANE_AFTER {
+                heap.active = heap.lanes.len();
+            }
+            let Some((node, mut plan)) = heap.pop() else { break End2::Exhausted };
             let known = incumbent.as_ref().map(|(_, q)| *q).or(limits.better_than);
             let admits = |makespan: f64| known.is_none_or(|k| k.admits(makespan));
             if !admits(node.span) {
                 // Found since it entered the open list: cannot do better.
                 continue;
             }
-            let mut plan = node.plan;
             plan.stn.flush();
             plan.stn.defer();
             stats.expanded += 1;
@@ -388,7 +485,7 @@ impl<'a, 'db> Search<'a, 'db> {
             }
             let Some(flaw) = self.select(&mut plan) else {
                 plan.stn.flush();
-                match found(plan, stats, &mut incumbent, heap.len(), progress) {
+                match found(plan, stats, &mut incumbent, &mut heap, progress) {
                     Some(end) => return end,
                     None => continue,
                 }
@@ -419,7 +516,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 first.sort_by(|a, b| Scored::probe_order(a, b));
                 let first = first.into_iter().map(|s| s.plan.clone()).collect();
                 if let Some(plan) = self.probe(first, budget, &admits, stats, &time_up)
-                    && let Some(end) = found(plan, stats, &mut incumbent, heap.len(), progress)
+                    && let Some(end) = found(plan, stats, &mut incumbent, &mut heap, progress)
                 {
                     return end;
                 }
@@ -427,7 +524,9 @@ impl<'a, 'db> Search<'a, 'db> {
             for c in scored {
                 id += 1;
                 let size = c.plan.steps.len();
-                heap.push(Node { f: c.f, span: c.span, effort: c.effort, size, id, probed, plan: c.plan });
+                let keys = [(c.f, c.effort), (self.size_rank(&c.plan, c.effort), c.effort)];
+                let entry = Entry { f: c.f, span: c.span, probed, plan: Some(c.plan).into() };
+                heap.push(entry, keys, size, id);
             }
         };
         stats.elapsed = started.elapsed();
