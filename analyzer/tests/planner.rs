@@ -401,6 +401,19 @@ fn instances_without_a_duration_are_not_applicable() {
     assert!(!text.contains("(move r1 a b)"), "{text}");
 }
 
+/// A method whose five free variables only its subtasks name, over 40
+/// places: the cross product of their types (10⁸ bindings) was past the
+/// grounding limits (E0501); grounded top-down, the task's argument and the
+/// reachable `hop` instances bind them to the one route that ends at p4.
+#[test]
+fn free_method_variables_are_bound_by_their_subtasks() {
+    let plan = solve_fixture("free-variables-bound-by-subtasks.hddl");
+    let val = plan.to_val("t");
+    for hop in ["(hop truck p0 p1)", "(hop truck p1 p2)", "(hop truck p2 p3)", "(hop truck p3 p4)"] {
+        assert!(val.contains(hop), "{val}");
+    }
+}
+
 /// `:htn` parameters (every binding is a start) and method `:constraints`
 /// (they restrict the method's instances), as IPC 2020 domains use them.
 #[test]

@@ -5,8 +5,11 @@
 //! something) and effort (an operator costs 1: the tie-breaker, "the
 //! approximate number of iterations to reach a solution").
 //!
-//! Abstract operators also get a refinement estimate: the cheapest method's
-//! subtasks, recursively (a fixpoint, since methods may recurse).
+//! Abstract operators also get a refinement estimate, the task decomposition
+//! graph's cost as hierarchical planners compute it: the cheapest method's
+//! preconditions (their h_add) and subtasks, recursively (a fixpoint, since
+//! methods may recurse); a method whose precondition is unreachable in the
+//! relaxed model does not count.
 
 use super::stn::EPS;
 use super::task::{End, Lit, Task, lit};
@@ -109,7 +112,14 @@ impl Heuristic {
             changed = false;
             rounds += 1;
             for m in &task.methods {
+                // The method's preconditions (relaxed: their h_add; one
+                // that cannot be reached rules the method out), then its
+                // subtasks.
                 let (mut c, mut e) = (0.0, 1.0);
+                for p in &m.pre {
+                    c += cost[p.lit as usize];
+                    e += effort[p.lit as usize];
+                }
                 for &(_, s) in &m.subtasks {
                     c += refine_cost[s as usize];
                     e += refine_effort[s as usize];
@@ -196,4 +206,55 @@ fn may_add(task: &Task<'_>) -> Option<Vec<Vec<Lit>>> {
         }
     }
     Some(sets)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::AnalysisHost;
+    use crate::planner::PlannerLimits;
+
+    /// `deliver` has two methods: `far` (three drives, no precondition) and
+    /// `near` (one drive, needing `(ready)`, which only `prepare` makes).
+    /// The refinement estimate is the cheapest method's preconditions and
+    /// subtasks: `near` counts its precondition, and a method whose
+    /// precondition cannot be reached (`never`) does not count.
+    #[test]
+    fn refinement_estimates_count_method_preconditions() {
+        let domain = "(define (domain d) (:requirements :hierarchy)
+          (:predicates (ready) (blocked) (done))
+          (:task deliver :parameters ())
+          (:task get-ready :parameters ())
+          (:method far :parameters () :task (deliver) :ordered-subtasks (and (drive) (drive) (drive)))
+          (:method near :parameters () :task (deliver) :precondition (ready) :ordered-subtasks (and (drive)))
+          (:method never :parameters () :task (deliver) :precondition (blocked) :ordered-subtasks (and (finish)))
+          (:method prepare-it :parameters () :task (get-ready) :ordered-subtasks (and (prepare)))
+          (:action drive :parameters () :effect (done))
+          (:action finish :parameters () :effect (done))
+          (:action prepare :parameters () :effect (ready)))";
+        let problem = "(define (problem p) (:domain d) (:htn :subtasks (and (get-ready) (deliver))) (:init))";
+        let mut host = AnalysisHost::new();
+        host.set_file_text("domain.hddl", domain);
+        let pf = host.set_file_text("problem.hddl", problem);
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::db::file_units(db, pf)[0];
+                let task = match crate::planner::task::compile(db, unit, &PlannerLimits::default()) {
+                    Ok(task) => task,
+                    Err(_) => panic!("the problem does not compile"),
+                };
+                let h = Heuristic::new(&task);
+                let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an operator");
+                let ready = task.ops[op("prepare")].effs[0].lit;
+                // One step each: `drive` costs ε and one unit of effort.
+                assert!((h.refine_cost[op("drive")] - EPS).abs() < 1e-9);
+                assert_eq!(h.refine_effort[op("drive")], 1.0);
+                // `near`: (ready) by `prepare`, then one drive; `far`: three
+                // drives; `never`: unreachable.
+                assert_eq!(h.lit_effort(ready), 1.0);
+                assert_eq!(h.refine_effort[op("deliver")], 1.0 + 1.0 + 1.0);
+                assert!((h.refine_cost[op("deliver")] - (h.lit_cost(ready) + EPS)).abs() < 1e-9);
+            })
+            .expect("not cancelled");
+    }
 }

@@ -99,7 +99,11 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
         _ => key.to_string(),
     };
     // Output order: primitive steps by start, then abstract ones by start.
-    let mut order: Vec<u32> = (0..p.steps.len() as u32).filter(|&s| p.op_of(s).is_some()).collect();
+    // A choice among an `:htn` task's instances is not written: the
+    // instance chosen is a root.
+    let choice = |s: u32| p.op_of(s).is_some_and(|o| task.ops[o as usize].choice);
+    let mut order: Vec<u32> =
+        (0..p.steps.len() as u32).filter(|&s| p.op_of(s).is_some() && !choice(s)).collect();
     let key = |s: u32| {
         let st = p.steps[s as usize];
         let abs = task.ops[p.op_of(s).expect("op step") as usize].is_abstract;
@@ -153,7 +157,7 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
         .collect();
     let mut root = Vec::new();
     for &s in &order {
-        match p.steps[s as usize].parent {
+        match p.steps[s as usize].parent.filter(|&parent| !choice(parent)) {
             Some(parent) => {
                 let (pid, cid) = (id_of[parent as usize], id_of[s as usize]);
                 steps[pid].subtasks.push(cid);

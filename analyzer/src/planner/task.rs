@@ -94,6 +94,10 @@ pub struct Op<'db> {
     pub methods: Vec<u32>,
     /// Some condition can never hold (an atom no operator adds): never usable.
     pub dead: bool,
+    /// The choice of an `:htn` task's arguments (its methods are the task's
+    /// ground instances): not an operator of the domain, and not written in
+    /// plans (its child is a root).
+    pub choice: bool,
 }
 
 impl Op<'_> {
@@ -547,6 +551,7 @@ pub fn compile<'db>(
             },
             methods: Vec::new(),
             dead: false,
+            choice: false,
         };
         let report = !schema_used[o.schema as usize];
         schema_used[o.schema as usize] = true;
@@ -776,39 +781,107 @@ pub fn compile<'db>(
         Some((item, h)) => {
             // `:htn :parameters`: every binding of them to objects of their
             // types is an initial task network to start from.
-            let (domains, count) = var_domains(g, &h.params);
-            if count > MAX_HTN_BINDINGS {
-                c.unsupported(
-                    item,
-                    h.span,
-                    &format!("`:htn` parameters with more than {MAX_HTN_BINDINGS} bindings ({count})"),
-                );
-            }
             let orders = network_orders(&mut c, item, &h.network);
             let mut nets = Vec::new();
             let mut missing = None;
-            if count <= MAX_HTN_BINDINGS {
-                each_binding(&h.params, &domains, |b| {
-                    let mut net = Network { tasks: Vec::new(), orders: orders.clone() };
-                    for st in &h.network.subtasks {
-                        let args: Option<Vec<ObjId>> = st.call.args.iter().map(|t| c.term(t, &b)).collect();
-                        match args
-                            .and_then(|a| op_index.get(&(st.call.name.key.clone(), a.as_slice())).copied())
-                        {
-                            Some(op) => net.tasks.push((op, Loc { item, span: st.call.span })),
-                            None => {
-                                missing.get_or_insert(st.call.span);
-                                return;
+            // Grounded top-down, with each parameter in one task at most:
+            // one network, where a task with several ground instances is a
+            // choice among them (a refinement, not one network per binding
+            // of the parameters: Woodworking's have up to 2,000,000).
+            let mut uses = vec![0usize; h.params.len()];
+            for st in &h.network.subtasks {
+                let mut seen = Vec::new();
+                for t in st.call.args.iter() {
+                    if let Term::Var(n) = t
+                        && let Some(i) = h.params.iter().position(|p| p.name.key == n.key)
+                        && !seen.contains(&i)
+                    {
+                        seen.push(i);
+                        uses[i] += 1;
+                    }
+                }
+            }
+            let choices = g.htn_choices.as_ref().filter(|_| uses.iter().all(|&u| u <= 1));
+            if let Some(choices) = choices {
+                let mut net = Network { tasks: Vec::new(), orders };
+                for (st, found) in h.network.subtasks.iter().zip(choices) {
+                    let loc = Loc { item, span: st.call.span };
+                    let name = st.call.name.key.clone();
+                    let ground: Vec<u32> =
+                        found.iter().filter_map(|a| op_index.get(&(name.clone(), &a[..])).copied()).collect();
+                    match ground.as_slice() {
+                        [] => {
+                            missing.get_or_insert(st.call.span);
+                        }
+                        [one] => net.tasks.push((*one, loc)),
+                        _ => {
+                            let choice = ops.len() as u32;
+                            for &op in &ground {
+                                methods.push(MethodInst {
+                                    item,
+                                    name: name.clone(),
+                                    task: choice,
+                                    subtasks: vec![(None, op)],
+                                    orders: Vec::new(),
+                                    pre: Vec::new(),
+                                });
                             }
+                            let first = ground.len();
+                            ops.push(Op {
+                                item: ops[ground[0] as usize].item,
+                                name,
+                                args: Vec::new(),
+                                is_abstract: true,
+                                instant: false,
+                                duration: None,
+                                conds: Vec::new(),
+                                effs: Vec::new(),
+                                conflicts: Vec::new(),
+                                agents: Vec::new(),
+                                allowed: false,
+                                methods: ((methods.len() - first) as u32..methods.len() as u32).collect(),
+                                dead: false,
+                                choice: true,
+                            });
+                            net.tasks.push((choice, loc));
                         }
                     }
+                }
+                if missing.is_none() {
                     nets.push(net);
-                });
+                }
+            } else {
+                let (domains, count) = var_domains(g, &h.params);
+                if count > MAX_HTN_BINDINGS {
+                    c.unsupported(
+                        item,
+                        h.span,
+                        &format!("`:htn` parameters with more than {MAX_HTN_BINDINGS} bindings ({count})"),
+                    );
+                } else {
+                    each_binding(&h.params, &domains, |b| {
+                        let mut net = Network { tasks: Vec::new(), orders: orders.clone() };
+                        for st in &h.network.subtasks {
+                            let args: Option<Vec<ObjId>> =
+                                st.call.args.iter().map(|t| c.term(t, &b)).collect();
+                            match args.and_then(|a| {
+                                op_index.get(&(st.call.name.key.clone(), a.as_slice())).copied()
+                            }) {
+                                Some(op) => net.tasks.push((op, Loc { item, span: st.call.span })),
+                                None => {
+                                    missing.get_or_insert(st.call.span);
+                                    return;
+                                }
+                            }
+                        }
+                        nets.push(net);
+                    });
+                }
             }
             if nets.is_empty() && c.unsupported.is_empty() {
                 return Err(vec![Unsupported {
                     loc: Loc { item, span: missing.unwrap_or(h.span) },
-                    what: "an `:htn` task with no ground instance (its arguments' types or static preconditions rule it out)".into(),
+                    what: "an `:htn` task with no ground instance (its arguments' types or static preconditions rule it out, or none can be decomposed into reachable actions)".into(),
                 }]);
             }
             Some(nets)
@@ -857,6 +930,25 @@ fn too_large(g: &Ground<'_>) -> String {
     } else {
         format!("grounding stopped at its limit of {} ground instances", thousands(g.limits.operators as f64))
     };
+    if let Some((method, found)) = &g.tdg_dominant {
+        if *found == 0 {
+            return format!(
+                "a hierarchical problem whose ground model, grounded top-down from its `:htn`, exceeds hipop's limits: \
+                 grounding stopped at {} tasks and method instances (or {} parameter values tried) while its methods \
+                 requested their subtasks, before any method instance",
+                thousands(g.limits.method_instances.max(g.limits.operators) as f64 * 3.0),
+                thousands(g.limits.candidates as f64),
+            );
+        }
+        return format!(
+            "a hierarchical problem whose ground model, grounded top-down from its `:htn`, exceeds hipop's limits: \
+             grounding stopped at {} tasks and method instances (or {} parameter values tried); `{method}` dominates, \
+             with {} instances found",
+            thousands(g.limits.method_instances.max(g.limits.operators) as f64 * 3.0),
+            thousands(g.limits.candidates as f64),
+            thousands(*found as f64)
+        );
+    }
     let mut text = format!("a problem whose {relevant} ground model exceeds hipop's limits: {stopped}");
     // The action or task with the most instances found; before any is
     // found, the one whose parameters allow the most.

@@ -123,6 +123,9 @@ impl Schema<'_> {
     }
 }
 
+/// A method and the parameters' values of its instances.
+pub type MethodBindings<'db> = (Item<'db>, Vec<Box<[ObjId]>>);
+
 /// The ground problem.
 #[derive(Debug, Clone, PartialEq, Default, salsa::SalsaValue)]
 pub struct Ground<'db> {
@@ -157,6 +160,16 @@ pub struct Ground<'db> {
     pub tried: u64,
     /// Only the instances relevant to the goal were kept ([`ground_relevant`]).
     pub relevance: bool,
+    /// A hierarchical problem grounded top-down ([`super::tdg`]): its
+    /// method instances, by method, in the domain's order
+    /// ([`visit_methods`] reads them).
+    pub tdg_methods: Option<Vec<MethodBindings<'db>>>,
+    /// With [`Ground::tdg_methods`]: per task of the `:htn`, the arguments
+    /// of its ground instances that can be decomposed.
+    pub htn_choices: Option<Vec<Vec<Box<[ObjId]>>>>,
+    /// Top-down grounding stopped at a limit: the method with the most
+    /// instances found then, and how many (none found: an empty name and 0).
+    pub tdg_dominant: Option<(Str, usize)>,
 }
 
 impl<'db> Ground<'db> {
@@ -272,6 +285,19 @@ pub fn ground_with_relevance<'db>(
     problem: Unit<'db>,
     limits: Limits,
     relevance: bool,
+) -> Ground<'db> {
+    ground_with_mode(db, problem, limits, relevance, relevance)
+}
+
+/// [`ground_with_relevance`]; with `hierarchy`, a pure hierarchical problem
+/// (an `:htn` and no allowed actions) is grounded top-down through its task
+/// decomposition graph ([`super::tdg`]).
+fn ground_with_mode<'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    limits: Limits,
+    relevance: bool,
+    hierarchy: bool,
 ) -> Ground<'db> {
     let mut g = Ground { limits, ..Ground::default() };
     if problem.kind(db) != UnitKind::Problem {
@@ -420,10 +446,30 @@ pub fn ground_with_relevance<'db>(
     g.static_preds.resize(g.predicates.len(), true);
     g.untracked_preds.resize(g.predicates.len(), false);
 
+    // A pure hierarchical problem: tasks are grounded top-down from its
+    // network, not over their types.
+    let methods: Vec<(Item<'db>, &super::lifted::MethodSchema)> = domain
+        .items(db)
+        .iter()
+        .filter(|i| i.section(db) == Section::Method)
+        .filter_map(|&i| method_schema(db, i).as_ref().map(|m| (i, m)))
+        .collect();
+    let htn = if hierarchy { lifted_htn(db, problem, domain, &ops, &methods) } else { None };
+    if htn.is_some() {
+        for ((_, op), c) in ops.iter().zip(&mut compiled) {
+            if op.kind == OperatorKind::Task {
+                c.spec_add.spec.restrict(None);
+            }
+        }
+    }
+
     // Goal relevance: restrict each parameter to the objects a relevant
     // instance may give it; an operator without any relevant instance is
     // not instantiated at all.
-    if relevance && let Some(goal) = relevance_goal(db, problem, domain, &ops, &g) {
+    if relevance
+        && htn.is_none()
+        && let Some(goal) = relevance_goal(db, problem, domain, &ops, &g)
+    {
         let rel_ops: Vec<RelOp> = ops
             .iter()
             .zip(&compiled)
@@ -451,15 +497,60 @@ pub fn ground_with_relevance<'db>(
     let mut start: Vec<AtomId> = g.init.facts.iter().map(|(a, _)| *a).collect();
     start.extend(g.init.timed.iter().filter(|t| t.positive).map(|t| t.atom));
     let mut budget = limits.candidates;
-    let fix = fixpoint(&inputs, &mut g.atoms, &start, g.init.truth().to_vec(), &mut budget, limits.operators);
+    // Top-down grounding prunes the reachable actions afterwards: they may
+    // be more than the limit before.
+    let max_ops = if htn.is_some() { limits.operators.saturating_mul(4) } else { limits.operators };
+    let fix = fixpoint(&inputs, &mut g.atoms, &start, g.init.truth().to_vec(), &mut budget, max_ops);
     g.truncated = fix.truncated;
     g.tried = limits.candidates - budget;
 
-    // Build the ground operators, schema by schema, instances sorted by arguments.
-    let mut by_op: Vec<Vec<u32>> = vec![Vec::new(); ops.len()];
+    let mut by_op: Vec<Vec<&[ObjId]>> = vec![Vec::new(); ops.len()];
     for k in 0..fix.instances.len() {
-        by_op[fix.instances.get(k).0].push(k as u32);
+        let (i, args) = fix.instances.get(k);
+        by_op[i].push(args);
     }
+    let mut reached = None;
+    let tdg_out = match &htn {
+        Some((htn, methods)) if !fix.truncated => {
+            let input = super::tdg::Input {
+                objects: &g.objects,
+                predicates: &g.predicates,
+                static_preds: &g.static_preds,
+                untracked: &g.untracked_preds,
+                atoms: &g.atoms,
+                reached: &fix.reached,
+                start: &start,
+                initial: g.init.truth(),
+                ops: &ops,
+                pre: compiled.iter().map(|c| c.pre.as_slice()).collect(),
+                add: compiled.iter().map(|c| c.spec_add.add.as_slice()).collect(),
+                instances: std::mem::take(&mut by_op),
+                methods,
+                htn,
+                budget: limits.candidates.saturating_sub(g.tried),
+                // Tasks requested, decomposable, and method instances,
+                // together: three times as many as one method may have.
+                max_instances: limits.method_instances.max(limits.operators).saturating_mul(3),
+            };
+            match super::tdg::ground(&input) {
+                Some(out) => Some(out),
+                None => return ground_with_mode(db, problem, limits, relevance, false),
+            }
+        }
+        _ => None,
+    };
+    if let Some(out) = &tdg_out {
+        by_op = out.per_op.iter().map(|l| l.iter().map(|a| &a[..]).collect()).collect();
+        let kept: usize = by_op.iter().map(Vec::len).sum();
+        g.truncated = out.truncated || kept > limits.operators;
+        g.tried += out.tried;
+        g.relevance = true;
+        reached = Some(out.reached.clone());
+        g.tdg_methods = Some(out.methods.clone());
+        g.htn_choices = Some(out.htn_choices.clone());
+        g.tdg_dominant = out.truncated.then(|| out.dominant.clone().unwrap_or_default());
+    }
+
     // Their exact number, and at most this much for their lists: no
     // doubling past what is needed (a truncated grounding has 200,000).
     let lists_len: usize = by_op
@@ -476,11 +567,11 @@ pub fn ground_with_relevance<'db>(
         .sum();
     g.operators.reserve_exact(fix.instances.len());
     g.lists.reserve_exact(lists_len);
+    // Build the ground operators, schema by schema, instances sorted by arguments.
     let mut key = Vec::new();
     for (schema, (((item, op), c), mut found)) in ops.iter().zip(&compiled).zip(by_op).enumerate() {
-        found.sort_unstable_by(|&x, &y| {
-            let (a, b) = (fix.instances.get(x as usize).1, fix.instances.get(y as usize).1);
-            a.iter().zip(b).map(|(p, q)| p.cmp(q)).find(|o| o.is_ne()).unwrap_or(a.len().cmp(&b.len()))
+        found.sort_unstable_by(|a, b| {
+            a.iter().zip(b.iter()).map(|(p, q)| p.cmp(q)).find(|o| o.is_ne()).unwrap_or(a.len().cmp(&b.len()))
         });
         let start = g.operators.len() as u32;
         let fixed = match (&op.duration, op.kind) {
@@ -490,8 +581,7 @@ pub fn ground_with_relevance<'db>(
         let mut tally = Tally::default();
         let Ground { atoms, init, objects, functions, operators, lists, .. } = &mut g;
         let env = Env { init, objects, funcs: functions };
-        for k in found {
-            let args = fix.instances.get(k as usize).1;
+        for args in found {
             let at = lists.len();
             lists.extend_from_slice(args);
             let mut ends = [0u32; 5];
@@ -565,9 +655,71 @@ pub fn ground_with_relevance<'db>(
             candidates: c.spec_add.spec.candidates(),
         });
     }
-    g.reachable = fix.reached;
+    g.reachable = reached.unwrap_or(fix.reached);
     g.reachable.resize(g.atoms.len(), false);
     g
+}
+
+/// The problem's `:htn` lifted, with the domain's methods, when the problem
+/// is purely hierarchical (an `:htn`, no allowed actions) and every method's
+/// task and subtasks are operators of the domain with terms grounding can
+/// name: then the planner grounds it top-down ([`super::tdg`]).
+fn lifted_htn<'a, 'db>(
+    db: &'db dyn Db,
+    problem: Unit<'db>,
+    domain: Unit<'db>,
+    ops: &[(Item<'db>, &super::lifted::Operator)],
+    methods: &'a [(Item<'db>, &'a super::lifted::MethodSchema)],
+) -> Option<(super::tdg::LiftedHtn, &'a [(Item<'db>, &'a super::lifted::MethodSchema)])> {
+    let mut htn = None;
+    for &item in problem.items(db) {
+        match &lower_item(db, item).data {
+            ItemData::AllowedActions(_) => return None,
+            ItemData::Htn(h) => htn = Some(h),
+            _ => {}
+        }
+    }
+    let h = htn?;
+    let n_methods = domain.items(db).iter().filter(|i| i.section(db) == Section::Method).count();
+    if n_methods != methods.len() {
+        return None;
+    }
+    let kind = |name: &str| ops.iter().find(|(_, op)| op.name == name).map(|(_, op)| op.kind);
+    let named = |ts: &[LTerm]| ts.iter().all(|t| !matches!(t, LTerm::Free(_)));
+    for (_, m) in methods {
+        let (task, args, _) = m.task.as_ref()?;
+        if kind(task) != Some(OperatorKind::Task) || !named(args) {
+            return None;
+        }
+        if m.subtasks.iter().any(|s| kind(&s.name).is_none() || !named(&s.args)) {
+            return None;
+        }
+    }
+    let params: Vec<super::lifted::Param> = h
+        .params
+        .iter()
+        .map(|t| super::lifted::Param {
+            name: t.name.key.clone(),
+            types: crate::semantics::symbols::type_set(&t.ty),
+            span: t.name.span,
+        })
+        .collect();
+    let mut subtasks = Vec::new();
+    for st in &h.network.subtasks {
+        kind(&st.call.name.key)?;
+        let args = st
+            .call
+            .args
+            .iter()
+            .map(|t| match t {
+                Term::Var(n) => params.iter().position(|p| p.name == n.key).map(|i| LTerm::Param(i as u32)),
+                Term::Const(n) => Some(LTerm::Const(n.key.clone())),
+                Term::Func(_) => None,
+            })
+            .collect::<Option<Vec<LTerm>>>()?;
+        subtasks.push((st.call.name.key.clone(), args));
+    }
+    Some((super::tdg::LiftedHtn { params, subtasks }, methods))
 }
 
 /// The goal as [`super::relevance`] reads it, or `None` when relevance
@@ -834,7 +986,7 @@ pub fn visit_methods<'db>(
         };
         let names: Vec<Str> = m.subtasks.iter().map(|s| s.name.clone()).collect();
         let mut count = 0;
-        let flow = instances_over(&spec, &g.atoms, &facts, &mut budget, &mut |binding| {
+        let mut emit = |binding: &[ObjId]| {
             if count >= limits.method_instances {
                 return ControlFlow::Break(());
             }
@@ -857,7 +1009,18 @@ pub fn visit_methods<'db>(
                 ends: &ends,
             }));
             ControlFlow::Continue(())
-        });
+        };
+        let flow = match &g.tdg_methods {
+            // Grounded top-down: the instances found then.
+            Some(found) => {
+                let bindings = found.iter().find(|(i, _)| *i == item).map_or(&[][..], |(_, b)| b.as_slice());
+                match bindings.iter().try_for_each(|b| emit(b)) {
+                    ControlFlow::Continue(()) => ControlFlow::Continue(()),
+                    ControlFlow::Break(()) => ControlFlow::Break(Stop::Caller),
+                }
+            }
+            None => instances_over(&spec, &g.atoms, &facts, &mut budget, &mut emit),
+        };
         match flow {
             ControlFlow::Continue(()) => f(MethodEvent::Done(item)),
             ControlFlow::Break(stop) => {
@@ -1228,6 +1391,59 @@ mod tests {
           (:goal (or (not (p a)) (q b))))";
         with_problem(d, p, |db, unit| {
             assert_eq!(instances(ground_relevant(db, unit)), ["(noise b)", "(set a)", "(unset a)"]);
+        });
+    }
+
+    #[test]
+    fn hierarchical_problems_are_grounded_top_down() {
+        // `four-hops` has five free variables only its subtasks name: their
+        // types allow 30⁵ bindings, the task and the `hop` instances one.
+        let d = "(define (domain routes) (:requirements :hierarchy :typing)
+          (:types vehicle place)
+          (:predicates (at ?v - vehicle ?p - place) (link ?a ?b - place))
+          (:task go :parameters (?v - vehicle ?to - place))
+          (:task idle :parameters (?v - vehicle ?p - place))
+          (:method four-hops :parameters (?v - vehicle ?a ?b ?c ?d ?e - place) :task (go ?v ?e)
+            :ordered-subtasks (and (hop ?v ?a ?b) (hop ?v ?b ?c) (hop ?v ?c ?d) (hop ?v ?d ?e)))
+          (:method wait :parameters (?v - vehicle ?p - place) :task (idle ?v ?p) :subtasks (stay ?v ?p))
+          (:action stay :parameters (?v - vehicle ?p - place) :precondition (at ?v ?p) :effect ())
+          (:action hop :parameters (?v - vehicle ?from ?to - place)
+            :precondition (and (at ?v ?from) (link ?from ?to))
+            :effect (and (not (at ?v ?from)) (at ?v ?to))))";
+        let places: Vec<String> = (0..30).map(|i| format!("p{i}")).collect();
+        let links: Vec<String> = (0..29).map(|i| format!("(link p{i} p{})", i + 1)).collect();
+        let p = format!(
+            "(define (problem p) (:domain routes) (:objects truck - vehicle {} - place)
+              (:htn :subtasks (and (go truck p4))) (:init (at truck p0) {}))",
+            places.join(" "),
+            links.join(" ")
+        );
+        with_problem(d, &p, |db, unit| {
+            let g = ground_relevant(db, unit);
+            assert!(!g.truncated && g.relevance);
+            // The actions and tasks the network decomposes into: `idle`,
+            // `stay`, and the hops past p4 are in no decomposition.
+            assert_eq!(
+                instances(g),
+                [
+                    "(go truck p4)",
+                    "(hop truck p0 p1)",
+                    "(hop truck p1 p2)",
+                    "(hop truck p2 p3)",
+                    "(hop truck p3 p4)"
+                ]
+            );
+            let mut found = Vec::new();
+            visit_methods(db, unit, g, Limits::PLANNER, &mut |e| {
+                if let MethodEvent::Instance(m) = e {
+                    found.push(m.binding.iter().map(|&o| g.objects.name(o)).collect::<Vec<_>>().join(" "));
+                }
+            });
+            assert_eq!(found, ["truck p0 p1 p2 p3 p4"]);
+            assert_eq!(g.htn_choices.as_deref().map(<[_]>::len), Some(1));
+            // The lints' grounding is every reachable instance, as before.
+            let all = ground(db, unit);
+            assert!(all.tdg_methods.is_none() && instances(all).len() > 29);
         });
     }
 

@@ -42,6 +42,7 @@ pub mod lifted;
 pub mod reach;
 mod relevance;
 pub mod state;
+mod tdg;
 
 use crate::db::{Db, Unit, UnitKind};
 use crate::diagnostic::{Code, Diagnostic, Fix, Related, Severity};
