@@ -7,6 +7,7 @@
 //! interfering happenings too close together (VAL's mutex).
 
 use super::super::FlawOrder;
+use super::super::numeric;
 use super::super::plan::{Kind, Open, Plan, Threat};
 use super::super::stn::{EPS, Tp};
 use super::super::task::atom_of;
@@ -82,7 +83,63 @@ impl Search<'_, '_> {
             // Nothing left can support them: their resolvers say so.
             return Some(Flaw::Open(0));
         }
+        if let Some(flaw) = self.numeric_flaw(p) {
+            return Some(flaw);
+        }
         self.late_til(p).or_else(|| self.mutex(p))
+    }
+
+    /// Numeric fluents, once nothing else is left but timed literals and
+    /// mutexes: the happenings that touch the same resource, one of them
+    /// writing it, ordered (in place when the network allows one way only;
+    /// else a [`Flaw::NumOrder`]); then the resources' values along that
+    /// order, the durations that read them fixed in the network, and the
+    /// first condition that does not hold ([`Flaw::Numeric`]).
+    pub(super) fn numeric_flaw(&self, p: &mut Plan) -> Option<Flaw> {
+        let task = self.task;
+        if task.numeric.is_empty() {
+            return None;
+        }
+        let events = numeric::events(task, p);
+        let mut resources: Vec<&u32> = events.keys().collect();
+        resources.sort_unstable();
+        for res in resources {
+            let evs = &events[res];
+            for (i, a) in evs.iter().enumerate() {
+                for b in &evs[i + 1..] {
+                    if !(a.writes || b.writes) || p.stn.before(a.tp, b.tp) || p.stn.before(b.tp, a.tp) {
+                        continue;
+                    }
+                    match (p.stn.allows(a.tp, b.tp, EPS), p.stn.allows(b.tp, a.tp, EPS)) {
+                        (false, false) => return Some(Flaw::Dead),
+                        (true, true) => return Some(Flaw::NumOrder(a.tp, b.tp)),
+                        (true, false) => {
+                            if !p.stn.add(a.tp, b.tp, EPS) {
+                                return Some(Flaw::Dead);
+                            }
+                        }
+                        (false, true) => {
+                            if !p.stn.add(b.tp, a.tp, EPS) {
+                                return Some(Flaw::Dead);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let values = numeric::simulate(task, p, &events, &p.durations);
+        if values.blocked {
+            return Some(Flaw::Dead);
+        }
+        for (s, d) in values.durations {
+            let Some(d) = d else { return Some(Flaw::Dead) };
+            let step = p.steps[s as usize];
+            if !(p.stn.add(step.start, step.end, d) && p.stn.add(step.end, step.start, -d)) {
+                return Some(Flaw::Dead);
+            }
+            std::rc::Rc::make_mut(&mut p.durations).push((s, d));
+        }
+        values.failed.map(Flaw::Numeric)
     }
 
     /// Whether a step is of an elementary action.
@@ -218,11 +275,19 @@ impl Search<'_, '_> {
             }
         }
         if let Kind::Op(o) = step.kind {
-            for c in &self.task.ops[o as usize].conds {
+            let op = &self.task.ops[o as usize];
+            for c in &op.conds {
                 if step.tp(c.at) == tp || step.tp(c.until) == tp {
                     reads.push(atom_of(c.lit));
                 }
             }
+            // Numeric fluents the search follows, as ids past the atoms'.
+            let fluent = |res: u32| u32::MAX - res;
+            reads.extend(op.num_conds.iter().filter(|c| step.tp(c.at) == tp).map(|c| fluent(c.res)));
+            if step.start == tp {
+                reads.extend(op.num_duration.iter().map(|d| fluent(d.res)));
+            }
+            writes.extend(op.num_effs.iter().filter(|e| step.tp(e.at) == tp).map(|e| fluent(e.res)));
         }
         (reads, writes)
     }
