@@ -289,7 +289,8 @@ pub fn simulate(
             let mut read = |e: &Event, value: Option<f64>, durations: &mut FxHashMap<u32, f64>| {
                 let Some(o) = p.op_of(e.step) else { return };
                 let op = &task.ops[o as usize];
-                if e.end == End::Start
+                let step = p.steps[e.step as usize];
+                if e.tp == step.start
                     && let Some(d) = op.num_duration.as_ref().filter(|d| d.res == res)
                     && !durations.contains_key(&e.step)
                 {
@@ -300,7 +301,7 @@ pub fn simulate(
                     found.push((e.step, x));
                 }
                 for (ci, c) in op.num_conds.iter().enumerate() {
-                    if c.res == res && e.end == c.at && !num.holds(task, c, value) {
+                    if c.res == res && step.tp(c.at) == e.tp && !num.holds(task, c, value) {
                         failures.push(Failed { step: e.step, tp: e.tp, res, cond: ci as u32, value });
                     }
                 }
@@ -316,7 +317,8 @@ pub fn simulate(
                 let Some(o) = p.op_of(w.step) else { continue };
                 let op = &task.ops[o as usize];
                 let step_duration = op.duration.or_else(|| durations.get(&w.step).copied());
-                for e in op.num_effs.iter().filter(|e| e.res == res && e.at == w.end) {
+                let step = p.steps[w.step as usize];
+                for e in op.num_effs.iter().filter(|e| e.res == res && step.tp(e.at) == w.tp) {
                     if step_duration.is_none() && reads_duration(e.value) {
                         blocked = true;
                         break;

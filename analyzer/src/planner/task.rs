@@ -10,11 +10,17 @@
 //! are signed atoms, so negative conditions are supported like positive ones
 //! (supported by a deletion, or by the closed-world initial state).
 //!
+//! Numeric conditions, effects and durations on the fluents effects change
+//! are compiled for [`super::numeric`]: conditions at the start or the end
+//! on one such fluent, effects whose value reads no such fluent, durations
+//! that read one at the start.
+//!
 //! What the planner cannot follow is reported here, located, before any
-//! search ([`Unsupported`]): numeric conditions, disjunctions and quantifiers
-//! in conditions, conditional and quantified effects, durations that are not
-//! one number, method effects, grounding past its limits, `:htn` parameters
-//! with too many bindings.
+//! search ([`Unsupported`]): other numeric conditions (`over all`, or
+//! comparing two fluents that effects change), disjunctions and quantifiers
+//! in conditions, conditional and quantified effects, durations that are
+//! not one number nor read one changing fluent, method effects, grounding
+//! past its limits, `:htn` parameters with too many bindings.
 
 use rustc_hash::FxHashMap;
 

@@ -298,3 +298,86 @@ impl Search<'_, '_> {
         wa.iter().any(|x| rb.contains(x) || wb.contains(x)) || wb.iter().any(|x| ra.contains(x))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::{Config, PlannerLimits, prepare};
+    use super::*;
+    use crate::AnalysisHost;
+
+    /// Two actions on one tank: `burn` takes a unit of fuel at its start,
+    /// `check` needs a unit at its start; nothing else orders them.
+    const DOMAIN: &str = "(define (domain tank)
+  (:requirements :durative-actions :numeric-fluents)
+  (:predicates (burnt) (checked))
+  (:functions (fuel))
+  (:durative-action burn :parameters () :duration (= ?duration 1)
+    :condition (at start (>= (fuel) 1))
+    :effect (and (at start (decrease (fuel) 1)) (at end (burnt))))
+  (:durative-action check :parameters () :duration (= ?duration 1)
+    :condition (at start (>= (fuel) 1))
+    :effect (at end (checked))))";
+
+    /// With `fuel` in `:init`: the plan with a `burn` and a `check` step
+    /// and no ordering between them; for each of the orderings the numeric
+    /// threat offers (which happening comes first), whether `check` comes
+    /// first and what the numeric stage finds next.
+    fn orderings(fuel: u32) -> Vec<(bool, Option<String>)> {
+        let problem = format!(
+            "(define (problem p) (:domain tank) (:init (= (fuel) {fuel})) (:goal (and (burnt) (checked))))"
+        );
+        let mut host = AnalysisHost::new();
+        host.set_file_text("domain.pddl", DOMAIN);
+        let pf = host.set_file_text("problem.pddl", problem.as_str());
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::db::file_units(db, pf)
+                    .iter()
+                    .copied()
+                    .find(|u| u.kind(db) == crate::db::UnitKind::Problem)
+                    .expect("a problem");
+                let config = Config::default();
+                let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
+                let task = &prepared.task;
+                let search = Search::new(task, &prepared.h, &config);
+                let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
+                let mut p = Plan::initial(task).expect("a plan");
+                let burn = p.add_step(task, &prepared.h, op("burn"), None).expect("added");
+                let check = p.add_step(task, &prepared.h, op("check"), None).expect("added");
+                let (bs, cs) = (p.steps[burn as usize].start, p.steps[check as usize].start);
+                let Some(Flaw::NumOrder(a, b)) = search.numeric_flaw(&mut p) else {
+                    panic!("the two starts touch the fuel, one writes it: a numeric threat")
+                };
+                assert_eq!([a.min(b), a.max(b)], [bs.min(cs), bs.max(cs)]);
+                let mut children = Vec::new();
+                search.resolvers(&p, Flaw::NumOrder(a, b), &mut children);
+                children
+                    .into_iter()
+                    .map(|mut c| {
+                        let check_first = c.stn.before(cs, bs);
+                        assert!(check_first != c.stn.before(bs, cs), "ordered one way");
+                        assert!(c.stn.est(cs).max(c.stn.est(bs)) >= EPS, "ε apart");
+                        let next = match search.numeric_flaw(&mut c) {
+                            None => None,
+                            Some(Flaw::Numeric(f)) => Some(format!(
+                                "{} reads {:?}",
+                                task.show_op(c.op_of(f.step).expect("op")),
+                                f.value
+                            )),
+                            Some(_) => Some("another flaw".to_string()),
+                        };
+                        (check_first, next)
+                    })
+                    .collect()
+            })
+            .expect("not cancelled")
+    }
+
+    #[test]
+    fn steps_touching_a_fluent_are_ordered_both_ways_and_read_along_the_order() {
+        // Two units: either order works.
+        assert_eq!(orderings(2), [(false, None), (true, None)]);
+        // One unit: `check` after `burn` reads 0.
+        assert_eq!(orderings(1), [(false, Some("(check) reads Some(0.0)".to_string())), (true, None)]);
+    }
+}
