@@ -220,8 +220,11 @@ pub fn events(task: &Task<'_>, p: &Plan) -> FxHashMap<u32, Vec<Event>> {
 /// What a plan's resources are once their happenings are ordered.
 #[derive(Debug, Default)]
 pub struct Values {
-    /// Per step with a duration that reads a resource: its duration, when
-    /// its start's value is known and gives one (`None`: it gives none).
+    /// Per step with a duration that reads a resource and that is not
+    /// fixed yet: its duration, when its start's value is known and gives
+    /// one. `None`: it gives none, or a duration fixed before is no longer
+    /// what its start reads (a step that changes the fluent was inserted
+    /// before it since): the plan is dead.
     pub durations: Vec<(u32, Option<f64>)>,
     /// A condition that does not hold: step, time point, resource, which of
     /// its operator's numeric conditions, and the value it read.
@@ -292,13 +295,18 @@ pub fn simulate(
                 let step = p.steps[e.step as usize];
                 if e.tp == step.start
                     && let Some(d) = op.num_duration.as_ref().filter(|d| d.res == res)
-                    && !durations.contains_key(&e.step)
                 {
                     let x = num.duration(task, d, value);
-                    if let Some(x) = x {
-                        durations.insert(e.step, x);
+                    match (x, durations.get(&e.step)) {
+                        // Fixed before, and still what its start reads.
+                        (Some(x), Some(&fixed)) if x == fixed => {}
+                        (_, Some(_)) => found.push((e.step, None)),
+                        (Some(x), None) => {
+                            durations.insert(e.step, x);
+                            found.push((e.step, Some(x)));
+                        }
+                        (None, None) => found.push((e.step, None)),
                     }
-                    found.push((e.step, x));
                 }
                 for (ci, c) in op.num_conds.iter().enumerate() {
                     if c.res == res && step.tp(c.at) == e.tp && !num.holds(task, c, value) {
@@ -351,8 +359,7 @@ pub fn simulate(
             break;
         }
     }
-    out.durations.retain(|(s, _)| !known.iter().any(|(k, _)| k == s));
-    out.durations.sort_by_key(|(s, _)| *s);
+    out.durations.sort_by_key(|(s, d)| (*s, d.is_some()));
     out.durations.dedup_by_key(|(s, _)| *s);
     out.failed =
         failed.into_iter().min_by(|a, b| p.stn.est(a.tp).total_cmp(&p.stn.est(b.tp)).then(a.tp.cmp(&b.tp)));

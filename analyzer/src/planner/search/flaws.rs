@@ -301,6 +301,7 @@ impl Search<'_, '_> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::super::task::Task;
     use super::super::super::{Config, PlannerLimits, prepare};
     use super::*;
     use crate::AnalysisHost;
@@ -316,7 +317,56 @@ mod tests {
     :effect (and (at start (decrease (fuel) 1)) (at end (burnt))))
   (:durative-action check :parameters () :duration (= ?duration 1)
     :condition (at start (>= (fuel) 1))
-    :effect (at end (checked))))";
+    :effect (at end (checked)))
+  (:durative-action fill :parameters () :duration (= ?duration (- 5 (fuel)))
+    :condition (at start (< (fuel) 5))
+    :effect (at end (assign (fuel) 5))))";
+
+    /// Runs `f` on the task of a problem with `fuel` in `:init`.
+    fn with_task<T>(
+        fuel: u32,
+        f: impl FnOnce(&Task<'_>, &Search<'_, '_>) -> T + std::panic::UnwindSafe,
+    ) -> T {
+        let problem = format!(
+            "(define (problem p) (:domain tank) (:init (= (fuel) {fuel})) (:goal (and (burnt) (checked))))"
+        );
+        let mut host = AnalysisHost::new();
+        host.set_file_text("domain.pddl", DOMAIN);
+        let pf = host.set_file_text("problem.pddl", problem.as_str());
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::db::file_units(db, pf)
+                    .iter()
+                    .copied()
+                    .find(|u| u.kind(db) == crate::db::UnitKind::Problem)
+                    .expect("a problem");
+                let config = Config::default();
+                let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
+                let search = Search::new(&prepared.task, &prepared.h, &config);
+                f(&prepared.task, &search)
+            })
+            .expect("not cancelled")
+    }
+
+    /// A duration that reads the fuel is fixed once the fuel at its start
+    /// is known; a step that changes the fuel, ordered before it later,
+    /// would change what it reads, and the plan is dead (its duration in
+    /// the network is no longer the one the validator computes).
+    #[test]
+    fn a_duration_read_from_a_fluent_is_fixed_and_stays_what_its_start_reads() {
+        with_task(2, |task, search| {
+            let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
+            let mut p = Plan::initial(task).expect("a plan");
+            let fill = p.add_step(task, search.h, op("fill"), None).expect("added");
+            let (fs, fe) = (p.steps[fill as usize].start, p.steps[fill as usize].end);
+            assert!(search.numeric_flaw(&mut p).is_none());
+            assert_eq!(p.fixed_duration(fill), Some(3.0));
+            assert!((p.stn.est(fe) - p.stn.est(fs) - 3.0).abs() < 1e-9);
+            let burn = p.add_step(task, search.h, op("burn"), None).expect("added");
+            assert!(p.stn.add(p.steps[burn as usize].start, fs, EPS));
+            assert!(matches!(search.numeric_flaw(&mut p), Some(Flaw::Dead)));
+        });
+    }
 
     /// With `fuel` in `:init`: the plan with a `burn` and a `check` step
     /// and no ordering between them; for each of the orderings the numeric
