@@ -77,6 +77,8 @@ pub struct Numeric {
     pub followed: Vec<bool>,
     /// Each resource's id in `state`.
     ids: Vec<FluentId>,
+    /// Resources by ground fluent.
+    index: FxHashMap<Vec<u32>, u32>,
     /// The initial state's fluents; the resource an expression reads is
     /// set before each evaluation.
     state: RefCell<State>,
@@ -101,9 +103,10 @@ impl Numeric {
 
     /// The resource of a ground fluent, added if new.
     pub(crate) fn resource(&mut self, key: &[u32]) -> u32 {
-        if let Some(r) = self.keys.iter().position(|k| k == key) {
-            return r as u32;
+        if let Some(&r) = self.index.get(key) {
+            return r;
         }
+        self.index.insert(key.to_vec(), self.keys.len() as u32);
         let mut state = self.state.borrow_mut();
         let id = state.fluent(key);
         self.init.push(state.value(id));
