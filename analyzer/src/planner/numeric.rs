@@ -24,7 +24,7 @@ use rustc_hash::FxHashMap;
 use super::plan::{Kind, Plan};
 use super::stn::Tp;
 use super::task::{End, Task};
-use crate::model::{Gd, NumExpr, Str};
+use crate::model::{CmpOp, Gd, NumExpr, Str};
 use crate::semantics::symbols::Loc;
 use crate::validate::eval::{Binding, Eval, FluentId, NumOp, State, World};
 use crate::verify::state::ObjId;
@@ -145,6 +145,112 @@ impl Numeric {
         let world = World { objects: &task_g.objects, preds: &task_g.predicates, funcs: &task_g.functions };
         let eval = Eval { world: &world, state: &state, duration: None, total_time: None };
         eval.holds(gd, &mut binding(vars)).unwrap_or(false)
+    }
+
+    /// The value of an expression that reads no resource and no
+    /// `?duration`, if it has one.
+    fn static_value(
+        &self,
+        g: &crate::verify::ground::Ground<'_>,
+        e: &NumExpr,
+        vars: &[(Str, ObjId)],
+    ) -> Option<f64> {
+        let state = self.state.borrow();
+        let world = World { objects: &g.objects, preds: &g.predicates, funcs: &g.functions };
+        let eval = Eval { world: &world, state: &state, duration: None, total_time: None };
+        eval.num(e, &binding(vars)).ok()
+    }
+
+    /// Marks dead the operators with a numeric condition that no value
+    /// the resource can take satisfies: a `zoom` that burns more fuel than
+    /// the tank holds, when only a refuel to capacity adds fuel. The values
+    /// a resource can take lie between the least and the greatest of its
+    /// initial value and of what effects assign it, or beyond on the side
+    /// increases (decreases) go; an effect whose value reads `?duration` or
+    /// cannot be evaluated counts as going either way. Only a condition
+    /// that compares the fluent itself with a static expression is judged
+    /// (it is monotone in the fluent); the others are kept.
+    pub(crate) fn prune(&self, g: &crate::verify::ground::Ground<'_>, ops: &mut [super::task::Op<'_>]) {
+        let n = self.keys.len();
+        let mut lo: Vec<f64> = self.init.iter().map(|v| v.unwrap_or(f64::NAN)).collect();
+        let mut hi = lo.clone();
+        for op in ops.iter().filter(|o| !o.dead) {
+            for e in &op.num_effs {
+                let r = e.res as usize;
+                let v = self.static_value(g, e.value, &e.vars);
+                match (e.op, v) {
+                    (NumOp::Assign, Some(v)) => {
+                        lo[r] = lo[r].min(v);
+                        hi[r] = hi[r].max(v);
+                    }
+                    (NumOp::Increase, Some(v)) | (NumOp::Decrease, Some(v)) => {
+                        let up = (e.op == NumOp::Increase) == (v > 0.0);
+                        if v != 0.0 && up {
+                            hi[r] = f64::INFINITY;
+                        } else if v != 0.0 {
+                            lo[r] = f64::NEG_INFINITY;
+                        }
+                    }
+                    _ => {
+                        lo[r] = f64::NEG_INFINITY;
+                        hi[r] = f64::INFINITY;
+                    }
+                }
+            }
+        }
+        for op in ops.iter_mut() {
+            let impossible = op.num_conds.iter().any(|c| {
+                let r = c.res as usize;
+                if r >= n || lo[r].is_nan() || hi[r].is_nan() {
+                    return false;
+                }
+                let Gd::Compare(cmp, l, rhs, _) = c.gd else { return false };
+                let is_fluent = |e: &NumExpr| match e {
+                    NumExpr::Fluent(f) => {
+                        let key: Option<Vec<u32>> = g.functions.get(&f.func.key).and_then(|func| {
+                            std::iter::once(Some(func))
+                                .chain(f.args.iter().map(|t| match t {
+                                    crate::model::Term::Var(v) => {
+                                        c.vars.iter().rev().find(|(k, _)| *k == v.key).map(|(_, o)| *o)
+                                    }
+                                    crate::model::Term::Const(o) => g.objects.id(&o.key),
+                                    _ => None,
+                                }))
+                                .collect()
+                        });
+                        key.as_deref() == Some(self.keys[r].as_slice())
+                    }
+                    _ => false,
+                };
+                // `fluent cmp x`, the fluent on the left.
+                let (cmp, other) = if is_fluent(l) {
+                    (*cmp, rhs)
+                } else if is_fluent(rhs) {
+                    let flipped = match cmp {
+                        CmpOp::Lt => CmpOp::Gt,
+                        CmpOp::Le => CmpOp::Ge,
+                        CmpOp::Gt => CmpOp::Lt,
+                        CmpOp::Ge => CmpOp::Le,
+                        CmpOp::Eq => CmpOp::Eq,
+                    };
+                    (flipped, l)
+                } else {
+                    return false;
+                };
+                let Some(x) = self.static_value(g, other, &c.vars) else { return false };
+                let (lo, hi) = (lo[r], hi[r]);
+                !match cmp {
+                    CmpOp::Ge => hi >= x,
+                    CmpOp::Gt => hi > x,
+                    CmpOp::Le => lo <= x,
+                    CmpOp::Lt => lo < x,
+                    CmpOp::Eq => lo <= x && x <= hi,
+                }
+            });
+            if impossible {
+                op.dead = true;
+            }
+        }
     }
 
     /// Whether a condition holds with its resource at `value`.

@@ -1041,8 +1041,11 @@ pub fn compile<'db>(
     let mut numeric = std::mem::take(&mut c.num);
     c.followed.resize(numeric.keys.len(), false);
     numeric.followed = c.followed.clone();
-    for (i, op) in ops.iter_mut().enumerate() {
+    for op in ops.iter_mut() {
         op.num_effs.retain(|e| c.followed[e.res as usize]);
+    }
+    numeric.prune(g, &mut ops);
+    for (i, op) in ops.iter_mut().enumerate() {
         if op.allowed && !op.dead && !op.is_abstract {
             for e in &op.num_effs {
                 let w = &mut numeric.writers[e.res as usize];
@@ -1074,6 +1077,8 @@ pub fn compile<'db>(
         numeric,
     };
     super::motion::families(db, problem, &mut task);
+    // Operators the numeric bounds ruled out support nothing.
+    task.rebuild_achievers();
     task.index_effects();
     Ok(task)
 }

@@ -320,7 +320,10 @@ mod tests {
     :effect (at end (checked)))
   (:durative-action fill :parameters () :duration (= ?duration (- 5 (fuel)))
     :condition (at start (< (fuel) 5))
-    :effect (at end (assign (fuel) 5))))";
+    :effect (at end (assign (fuel) 5)))
+  (:durative-action guzzle :parameters () :duration (= ?duration 1)
+    :condition (at start (<= 6 (fuel)))
+    :effect (and (at start (decrease (fuel) 6)) (at end (burnt)))))";
 
     /// Runs `f` on the task of a problem with `fuel` in `:init`.
     fn with_task<T>(
@@ -365,6 +368,21 @@ mod tests {
             let burn = p.add_step(task, search.h, op("burn"), None).expect("added");
             assert!(p.stn.add(p.steps[burn as usize].start, fs, EPS));
             assert!(matches!(search.numeric_flaw(&mut p), Some(Flaw::Dead)));
+        });
+    }
+
+    /// The fuel is never above 5 (`:init` gives less, `fill` assigns 5,
+    /// nothing increases it): `guzzle`, which needs 6, is never usable and
+    /// supports nothing; `burn` is kept.
+    #[test]
+    fn an_action_needing_more_than_a_fluent_can_hold_is_never_used() {
+        with_task(2, |task, _| {
+            let dead = |name: &str| task.ops.iter().find(|o| &*o.name == name).expect("an op").dead;
+            assert!(dead("guzzle"));
+            assert!(!dead("burn") && !dead("check") && !dead("fill"));
+            let burnt =
+                task.achievers.iter().find(|(l, _)| task.show_lit(**l) == "(burnt)").expect("achieved");
+            assert!(burnt.1.iter().all(|&(o, _)| &*task.ops[o as usize].name == "burn"));
         });
     }
 
