@@ -20,6 +20,7 @@
 pub mod heuristic;
 pub mod itinerary;
 pub mod motion;
+pub mod numeric;
 pub mod output;
 pub mod plan;
 pub mod pvec;

@@ -131,7 +131,7 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
             let st = p.steps[s as usize];
             let op = &task.ops[p.op_of(s).expect("op step") as usize];
             let start = at(st.start);
-            let duration = if op.instant { None } else { op.duration };
+            let duration = if op.instant { None } else { op.duration.or_else(|| p.fixed_duration(s)) };
             let end = duration.map_or_else(|| at(st.end), |d| start + d);
             SolvedStep {
                 id: i,

@@ -124,6 +124,9 @@ pub struct Plan {
     pub not_before: f64,
     /// A repair's old schedule ([`Plan::keep_old_times`]).
     pub old_times: Rc<OldSchedule>,
+    /// The durations fixed so far of the steps whose duration reads a
+    /// numeric fluent that effects change (`refuel`), by step.
+    pub durations: Rc<Vec<(u32, f64)>>,
 }
 
 /// The old schedule of a repair's start plan: the start point of each old
@@ -172,6 +175,7 @@ impl Plan {
             tails: Rc::new(Vec::new()),
             not_before: 0.0,
             old_times: Rc::new(OldSchedule::default()),
+            durations: Rc::new(Vec::new()),
         };
         p.steps.push(Step {
             kind: Kind::Init,
@@ -204,6 +208,12 @@ impl Plan {
             });
         }
         Some(p)
+    }
+
+    /// The duration of step `s` when its operator's reads a numeric
+    /// fluent and it is fixed.
+    pub fn fixed_duration(&self, s: u32) -> Option<f64> {
+        self.durations.iter().find(|(k, _)| *k == s).map(|(_, d)| *d)
     }
 
     pub fn op_of(&self, s: u32) -> Option<u32> {
@@ -458,6 +468,14 @@ impl Plan {
             match op.duration {
                 Some(d) => {
                     if !(self.stn.add(start, end, d) && self.stn.add(end, start, -d)) {
+                        return None;
+                    }
+                }
+                // Fixed once the fluent it reads is known at its start
+                // (`super::numeric`): meanwhile at least ε, the start and
+                // the end being two happenings.
+                None if op.num_duration.is_some() => {
+                    if !self.stn.add(start, end, EPS) {
                         return None;
                     }
                 }

@@ -10,22 +10,30 @@
 //! are signed atoms, so negative conditions are supported like positive ones
 //! (supported by a deletion, or by the closed-world initial state).
 //!
+//! Numeric conditions, effects and durations on the fluents effects change
+//! are compiled for [`super::numeric`]: conditions at the start or the end
+//! on one such fluent, effects whose value reads no such fluent, durations
+//! that read one at the start.
+//!
 //! What the planner cannot follow is reported here, located, before any
-//! search ([`Unsupported`]): numeric conditions, disjunctions and quantifiers
-//! in conditions, conditional and quantified effects, durations that are not
-//! one number, method effects, grounding past its limits, `:htn` parameters
-//! with too many bindings.
+//! search ([`Unsupported`]): other numeric conditions (`over all`, or
+//! comparing two fluents that effects change), disjunctions and quantifiers
+//! in conditions, conditional and quantified effects, durations that are
+//! not one number nor read one changing fluent, method effects, grounding
+//! past its limits, `:htn` parameters with too many bindings.
 
 use rustc_hash::FxHashMap;
 
 use super::PlannerLimits;
+use super::numeric::{NumCond, NumDuration, NumEff, Numeric};
 use crate::db::{Db, Item, Section, Unit, UnitKind, lower_item};
 use crate::model::{
-    ActionKind, CmpOp, Effect, Endpoint, Gd, ItemData, Method, Ordering, Str, TaskNetwork, Term, TimeSpec,
-    Typed,
+    ActionKind, CmpOp, Effect, Endpoint, Gd, ItemData, Method, NumExpr, Ordering, Str, TaskNetwork, Term,
+    TimeSpec, Typed,
 };
 use crate::semantics::check::{domain_for, gd_span};
 use crate::semantics::symbols::Loc;
+use crate::validate::eval::NumOp;
 use crate::verify::ground::{Ground, Limits, MethodEvent, ground_planner, ground_relevant, visit_methods};
 use crate::verify::lifted::OperatorKind;
 use crate::verify::state::{AtomId, ObjId, PredId};
@@ -98,6 +106,11 @@ pub struct Op<'db> {
     /// ground instances): not an operator of the domain, and not written in
     /// plans (its child is a root).
     pub choice: bool,
+    /// Numeric conditions, effects and a duration that read or write the
+    /// resources the search follows ([`super::numeric`]).
+    pub num_conds: Vec<NumCond<'db>>,
+    pub num_effs: Vec<NumEff<'db>>,
+    pub num_duration: Option<NumDuration<'db>>,
 }
 
 impl Op<'_> {
@@ -213,6 +226,8 @@ pub struct Task<'db> {
     pub op_touches: Vec<u64>,
     /// `g` is [`ground_relevant`]'s (else [`ground_planner`]'s).
     pub goal_relevance: bool,
+    /// The numeric fluents the search follows.
+    pub numeric: Numeric,
 }
 
 impl<'db> Task<'db> {
@@ -298,6 +313,14 @@ struct Compiler<'a, 'db> {
     /// operators, not those of the goal, so a static goal atom is checked
     /// here against the initial state.
     goal: bool,
+    /// The resources met so far, and the numeric conditions and effects of
+    /// the operator being compiled.
+    num: Numeric,
+    num_conds: Vec<NumCond<'db>>,
+    num_effs: Vec<NumEff<'db>>,
+    /// Per resource: read by a condition or a duration, or written other
+    /// than by `increase`/`decrease` (VAL's mutex then orders its writers).
+    followed: Vec<bool>,
 }
 
 impl<'db> Compiler<'_, 'db> {
@@ -349,7 +372,7 @@ impl<'db> Compiler<'_, 'db> {
     fn conds(
         &mut self,
         item: Item<'db>,
-        gd: &Gd,
+        gd: &'db Gd,
         b: &Binding,
         time: Option<TimeSpec>,
         out: &mut Vec<Cond<'db>>,
@@ -384,7 +407,7 @@ impl<'db> Compiler<'_, 'db> {
                 other => self.unsupported(item, gd_span(other), "a negated formula in a condition"),
             },
             Gd::Equal(..) => {}
-            Gd::Compare(..) => self.unsupported(item, gd_span(gd), "a numeric condition"),
+            Gd::Compare(_, l, r, span) => self.numeric_cond(item, gd, [l, r], *span, b, time, dead),
             Gd::Or(_, s) => self.unsupported(item, *s, "a disjunctive condition"),
             Gd::Imply(_, _, s) => self.unsupported(item, *s, "an implication in a condition"),
             Gd::Forall(vars, inner, s) => {
@@ -411,7 +434,168 @@ impl<'db> Compiler<'_, 'db> {
         }
     }
 
-    fn effs(&mut self, item: Item<'db>, e: &Effect, b: &Binding, time: Option<TimeSpec>, out: &mut Vec<Eff>) {
+    /// The ground fluents some effect changes that `e` reads, as resources;
+    /// `Err` with where and what when it reads what the planner cannot
+    /// follow.
+    fn dynamic_reads(
+        &mut self,
+        e: &NumExpr,
+        b: &Binding,
+        duration_ok: bool,
+        out: &mut Vec<u32>,
+    ) -> Result<(), (rowan::TextRange, &'static str)> {
+        match e {
+            NumExpr::Number(_) => Ok(()),
+            NumExpr::Fluent(f) => {
+                let Some(func) = self.g.functions.get(&f.func.key) else { return Ok(()) };
+                if !self.g.dynamic_funcs.get(func as usize).copied().unwrap_or(false) {
+                    return Ok(());
+                }
+                let mut key = vec![func];
+                for t in &f.args {
+                    match self.term(t, b) {
+                        Some(o) => key.push(o),
+                        None => return Err((f.span, "a fluent with a term the planner cannot name")),
+                    }
+                }
+                let r = self.num.resource(&key);
+                if !out.contains(&r) {
+                    out.push(r);
+                }
+                Ok(())
+            }
+            NumExpr::Op(_, xs, _) => xs.iter().try_for_each(|x| self.dynamic_reads(x, b, duration_ok, out)),
+            NumExpr::Duration(span) if !duration_ok => Err((*span, "`?duration` in a condition")),
+            NumExpr::Duration(_) => Ok(()),
+            NumExpr::Special(_, span) => Err((*span, "`#t` or `total-time` in an action")),
+            NumExpr::TaskDuration(_, span) => Err((*span, "a subtask's duration in an action")),
+            NumExpr::Var(n) => Err((n.span, "an object used as a number")),
+        }
+    }
+
+    /// A numeric condition: one that reads no changing fluent is checked
+    /// against `:init` here; one that reads one is a [`NumCond`] at the
+    /// start or the end; anything else is refused.
+    #[allow(clippy::too_many_arguments)]
+    fn numeric_cond(
+        &mut self,
+        item: Item<'db>,
+        gd: &'db Gd,
+        sides: [&NumExpr; 2],
+        span: rowan::TextRange,
+        b: &Binding,
+        time: Option<TimeSpec>,
+        dead: &mut bool,
+    ) {
+        let mut reads = Vec::new();
+        for side in sides {
+            if let Err((at, what)) = self.dynamic_reads(side, b, false, &mut reads) {
+                self.unsupported(item, at, &format!("{what} (in a numeric condition)"));
+                return;
+            }
+        }
+        match reads.as_slice() {
+            [] => {
+                if !self.num.holds_static(self.g, gd, b) {
+                    *dead = true;
+                }
+            }
+            &[res] => {
+                if self.goal {
+                    self.unsupported(item, span, "a numeric goal on a fluent that effects change");
+                    return;
+                }
+                let at = match time {
+                    None | Some(TimeSpec::AtStart) => End::Start,
+                    Some(TimeSpec::AtEnd) => End::End,
+                    Some(TimeSpec::OverAll) => {
+                        self.unsupported(
+                            item,
+                            span,
+                            "a numeric condition `over all` on a fluent that effects change",
+                        );
+                        return;
+                    }
+                };
+                self.followed.resize(self.num.keys.len(), false);
+                self.followed[res as usize] = true;
+                self.num_conds.push(NumCond { res, at, gd, vars: b.clone().into(), loc: Loc { item, span } });
+            }
+            _ => {
+                self.unsupported(item, span, "a numeric condition comparing two fluents that effects change")
+            }
+        }
+    }
+
+    /// A numeric effect: on a fluent the search follows, a [`NumEff`];
+    /// its value may read `?duration` and fluents nothing changes.
+    #[allow(clippy::too_many_arguments)]
+    fn numeric_eff(
+        &mut self,
+        item: Item<'db>,
+        name: &str,
+        f: &crate::model::Fluent,
+        value: &'db NumExpr,
+        span: rowan::TextRange,
+        b: &Binding,
+        time: Option<TimeSpec>,
+    ) {
+        let Some(op) = NumOp::parse(name) else {
+            self.unsupported(item, span, &format!("the numeric effect `{name}`"));
+            return;
+        };
+        let mut reads = Vec::new();
+        if let Err((at, what)) = self.dynamic_reads(value, b, time.is_some(), &mut reads) {
+            self.unsupported(item, at, &format!("{what} (in a numeric effect)"));
+            return;
+        }
+        if !reads.is_empty() {
+            self.unsupported(item, span, "a numeric effect whose value reads a fluent that effects change");
+            return;
+        }
+        let mut target = Vec::new();
+        if let Err((at, what)) =
+            self.dynamic_reads(&NumExpr::Fluent(Box::new(f.clone())), b, false, &mut target)
+        {
+            self.unsupported(item, at, what);
+            return;
+        }
+        let Some(&res) = target.first() else { return };
+        self.followed.resize(self.num.keys.len(), false);
+        if !op.is_additive() {
+            self.followed[res as usize] = true;
+        }
+        let at = match time {
+            Some(TimeSpec::AtStart) => End::Start,
+            _ => End::End,
+        };
+        self.num_effs.push(NumEff { res, at, op, value, vars: b.clone().into() });
+    }
+
+    /// The duration of a durative action that reads a fluent effects
+    /// change: `(= ?duration e)` with `e` reading one such fluent.
+    fn numeric_duration(&mut self, d: &'db Gd, b: &Binding) -> Option<NumDuration<'db>> {
+        let Gd::Compare(CmpOp::Eq, l, r, _) = d else { return None };
+        let expr = match (l, r) {
+            (NumExpr::Duration(_), e) | (e, NumExpr::Duration(_)) => e,
+            _ => return None,
+        };
+        let mut reads = Vec::new();
+        self.dynamic_reads(expr, b, false, &mut reads).ok()?;
+        let &[res] = reads.as_slice() else { return None };
+        self.followed.resize(self.num.keys.len(), false);
+        self.followed[res as usize] = true;
+        Some(NumDuration { res, expr, vars: b.clone().into() })
+    }
+
+    fn effs(
+        &mut self,
+        item: Item<'db>,
+        e: &'db Effect,
+        b: &Binding,
+        time: Option<TimeSpec>,
+        out: &mut Vec<Eff>,
+    ) {
         // Untimed effects happen at the end (an `:action` has one time point;
         // an abstract action's effects hold once it is done).
         let at = match time {
@@ -435,10 +619,7 @@ impl<'db> Compiler<'_, 'db> {
                     out.push(Eff { lit: lit(atom, true), at });
                 }
             }
-            // Numeric effects only change fluents that no condition the
-            // planner accepts reads (numeric conditions are refused, and a
-            // duration on a changing fluent has no single value).
-            Effect::Numeric(..) => {}
+            Effect::Numeric(name, f, value, span) => self.numeric_eff(item, name, f, value, *span, b, time),
             Effect::Forall(_, _, s) => self.unsupported(item, *s, "a universally quantified effect"),
             Effect::When(_, _, s) => self.unsupported(item, *s, "a conditional effect"),
         }
@@ -498,7 +679,16 @@ pub fn compile<'db>(
     let Some(domain) = domain_for(db, problem) else { return Err(none("a problem without its domain")) };
     let g: &'db Ground<'db> =
         if limits.goal_relevance { ground_relevant(db, problem) } else { ground_planner(db, problem) };
-    let mut c = Compiler { db, g, unsupported: Vec::new(), goal: false };
+    let mut c = Compiler {
+        db,
+        g,
+        unsupported: Vec::new(),
+        goal: false,
+        num: Numeric::new(&g.init),
+        num_conds: Vec::new(),
+        num_effs: Vec::new(),
+        followed: Vec::new(),
+    };
     if g.truncated {
         return Err(none(&too_large(g)));
     }
@@ -552,6 +742,9 @@ pub fn compile<'db>(
             methods: Vec::new(),
             dead: false,
             choice: false,
+            num_conds: Vec::new(),
+            num_effs: Vec::new(),
+            num_duration: None,
         };
         let report = !schema_used[o.schema as usize];
         schema_used[o.schema as usize] = true;
@@ -580,12 +773,20 @@ pub fn compile<'db>(
                     // 2.1 never applies the instance.
                     op.dead = true;
                 } else if op.duration.is_none() {
-                    let span = a.duration.as_ref().map_or(a.name.span, gd_span);
-                    c.unsupported(
-                        item,
-                        span,
-                        "a duration that is not one number (bounds, or a changing fluent)",
-                    );
+                    // A duration that reads a fluent effects change: fixed
+                    // once the step's place among the steps that change
+                    // that fluent is known.
+                    match a.duration.as_ref().and_then(|d| c.numeric_duration(d, &b)) {
+                        Some(d) => op.num_duration = Some(d),
+                        None => {
+                            let span = a.duration.as_ref().map_or(a.name.span, gd_span);
+                            c.unsupported(
+                                item,
+                                span,
+                                "a duration that is not one number (bounds, or an expression over several fluents that effects change)",
+                            );
+                        }
+                    }
                 }
             }
             ItemData::Task(t) => {
@@ -617,6 +818,12 @@ pub fn compile<'db>(
                 }
             }
             _ => op.dead = true,
+        }
+        op.num_conds = std::mem::take(&mut c.num_conds);
+        op.num_effs = std::mem::take(&mut c.num_effs);
+        if op.is_abstract && !(op.num_conds.is_empty() && op.num_effs.is_empty()) {
+            let loc = op.num_conds.first().map_or(Loc { item, span: rowan::TextRange::default() }, |n| n.loc);
+            c.unsupported(loc.item, loc.span, "numeric conditions or effects of an abstract task");
         }
         if !report {
             c.unsupported.truncate(before);
@@ -677,6 +884,15 @@ pub fn compile<'db>(
             // atom there is a condition like the precondition's.
             if let Some(g) = &method.network.constraints {
                 c.conds(m.method, g, &b, None, &mut pre, &mut dead);
+            }
+            if let Some(n) = c.num_conds.first() {
+                let loc = n.loc;
+                c.num_conds.clear();
+                c.unsupported(
+                    loc.item,
+                    loc.span,
+                    "a numeric method precondition on a fluent that effects change",
+                );
             }
             if dead {
                 return;
@@ -842,6 +1058,9 @@ pub fn compile<'db>(
                                 methods: ((methods.len() - first) as u32..methods.len() as u32).collect(),
                                 dead: false,
                                 choice: true,
+                                num_conds: Vec::new(),
+                                num_effs: Vec::new(),
+                                num_duration: None,
                             });
                             net.tasks.push((choice, loc));
                         }
@@ -892,6 +1111,27 @@ pub fn compile<'db>(
         return Err(c.unsupported);
     }
 
+    // Numeric effects on fluents nothing reads and that only increase or
+    // decrease are left to the validator (VAL lets such updates happen
+    // together); the others' writers are the helpers of their conditions.
+    let mut numeric = std::mem::take(&mut c.num);
+    c.followed.resize(numeric.keys.len(), false);
+    numeric.followed = c.followed.clone();
+    for op in ops.iter_mut() {
+        op.num_effs.retain(|e| c.followed[e.res as usize]);
+    }
+    numeric.prune(g, &mut ops);
+    for (i, op) in ops.iter_mut().enumerate() {
+        if op.allowed && !op.dead && !op.is_abstract {
+            for e in &op.num_effs {
+                let w = &mut numeric.writers[e.res as usize];
+                if w.last() != Some(&(i as u32)) {
+                    w.push(i as u32);
+                }
+            }
+        }
+    }
+
     let mut task = Task {
         g,
         goal_relevance: limits.goal_relevance,
@@ -910,8 +1150,11 @@ pub fn compile<'db>(
         groups: 0,
         moves: FxHashMap::default(),
         op_touches: Vec::new(),
+        numeric,
     };
     super::motion::families(db, problem, &mut task);
+    // Operators the numeric bounds ruled out support nothing.
+    task.rebuild_achievers();
     task.index_effects();
     Ok(task)
 }

@@ -43,7 +43,7 @@
 //! Interfering events of different happenings that are closer than the
 //! tolerance are accepted, as VAL accepts them, with the warning W0411.
 
-mod eval;
+pub(crate) mod eval;
 pub mod file;
 pub mod hierarchy;
 mod temporal;

@@ -7,6 +7,7 @@
 //! interfering happenings too close together (VAL's mutex).
 
 use super::super::FlawOrder;
+use super::super::numeric;
 use super::super::plan::{Kind, Open, Plan, Threat};
 use super::super::stn::{EPS, Tp};
 use super::super::task::atom_of;
@@ -82,7 +83,63 @@ impl Search<'_, '_> {
             // Nothing left can support them: their resolvers say so.
             return Some(Flaw::Open(0));
         }
+        if let Some(flaw) = self.numeric_flaw(p) {
+            return Some(flaw);
+        }
         self.late_til(p).or_else(|| self.mutex(p))
+    }
+
+    /// Numeric fluents, once nothing else is left but timed literals and
+    /// mutexes: the happenings that touch the same resource, one of them
+    /// writing it, ordered (in place when the network allows one way only;
+    /// else a [`Flaw::NumOrder`]); then the resources' values along that
+    /// order, the durations that read them fixed in the network, and the
+    /// first condition that does not hold ([`Flaw::Numeric`]).
+    pub(super) fn numeric_flaw(&self, p: &mut Plan) -> Option<Flaw> {
+        let task = self.task;
+        if task.numeric.is_empty() {
+            return None;
+        }
+        let events = numeric::events(task, p);
+        let mut resources: Vec<&u32> = events.keys().collect();
+        resources.sort_unstable();
+        for res in resources {
+            let evs = &events[res];
+            for (i, a) in evs.iter().enumerate() {
+                for b in &evs[i + 1..] {
+                    if !(a.writes || b.writes) || p.stn.before(a.tp, b.tp) || p.stn.before(b.tp, a.tp) {
+                        continue;
+                    }
+                    match (p.stn.allows(a.tp, b.tp, EPS), p.stn.allows(b.tp, a.tp, EPS)) {
+                        (false, false) => return Some(Flaw::Dead),
+                        (true, true) => return Some(Flaw::NumOrder(a.tp, b.tp)),
+                        (true, false) => {
+                            if !p.stn.add(a.tp, b.tp, EPS) {
+                                return Some(Flaw::Dead);
+                            }
+                        }
+                        (false, true) => {
+                            if !p.stn.add(b.tp, a.tp, EPS) {
+                                return Some(Flaw::Dead);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let values = numeric::simulate(task, p, &events, &p.durations);
+        if values.blocked {
+            return Some(Flaw::Dead);
+        }
+        for (s, d) in values.durations {
+            let Some(d) = d else { return Some(Flaw::Dead) };
+            let step = p.steps[s as usize];
+            if !(p.stn.add(step.start, step.end, d) && p.stn.add(step.end, step.start, -d)) {
+                return Some(Flaw::Dead);
+            }
+            std::rc::Rc::make_mut(&mut p.durations).push((s, d));
+        }
+        values.failed.map(Flaw::Numeric)
     }
 
     /// Whether a step is of an elementary action.
@@ -218,11 +275,19 @@ impl Search<'_, '_> {
             }
         }
         if let Kind::Op(o) = step.kind {
-            for c in &self.task.ops[o as usize].conds {
+            let op = &self.task.ops[o as usize];
+            for c in &op.conds {
                 if step.tp(c.at) == tp || step.tp(c.until) == tp {
                     reads.push(atom_of(c.lit));
                 }
             }
+            // Numeric fluents the search follows, as ids past the atoms'.
+            let fluent = |res: u32| u32::MAX - res;
+            reads.extend(op.num_conds.iter().filter(|c| step.tp(c.at) == tp).map(|c| fluent(c.res)));
+            if step.start == tp {
+                reads.extend(op.num_duration.iter().map(|d| fluent(d.res)));
+            }
+            writes.extend(op.num_effs.iter().filter(|e| step.tp(e.at) == tp).map(|e| fluent(e.res)));
         }
         (reads, writes)
     }
@@ -231,5 +296,156 @@ impl Search<'_, '_> {
         let (ra, wa) = self.touched(p, a, sa);
         let (rb, wb) = self.touched(p, b, sb);
         wa.iter().any(|x| rb.contains(x) || wb.contains(x)) || wb.iter().any(|x| ra.contains(x))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::task::Task;
+    use super::super::super::{Config, PlannerLimits, prepare};
+    use super::*;
+    use crate::AnalysisHost;
+
+    /// Two actions on one tank: `burn` takes a unit of fuel at its start,
+    /// `check` needs a unit at its start; nothing else orders them.
+    const DOMAIN: &str = "(define (domain tank)
+  (:requirements :durative-actions :numeric-fluents)
+  (:predicates (burnt) (checked))
+  (:functions (fuel))
+  (:durative-action burn :parameters () :duration (= ?duration 1)
+    :condition (at start (>= (fuel) 1))
+    :effect (and (at start (decrease (fuel) 1)) (at end (burnt))))
+  (:durative-action check :parameters () :duration (= ?duration 1)
+    :condition (at start (>= (fuel) 1))
+    :effect (at end (checked)))
+  (:durative-action fill :parameters () :duration (= ?duration (- 5 (fuel)))
+    :condition (at start (< (fuel) 5))
+    :effect (at end (assign (fuel) 5)))
+  (:durative-action guzzle :parameters () :duration (= ?duration 1)
+    :condition (at start (<= 6 (fuel)))
+    :effect (and (at start (decrease (fuel) 6)) (at end (burnt)))))";
+
+    /// Runs `f` on the task of a problem with `fuel` in `:init`.
+    fn with_task<T>(
+        fuel: u32,
+        f: impl FnOnce(&Task<'_>, &Search<'_, '_>) -> T + std::panic::UnwindSafe,
+    ) -> T {
+        let problem = format!(
+            "(define (problem p) (:domain tank) (:init (= (fuel) {fuel})) (:goal (and (burnt) (checked))))"
+        );
+        let mut host = AnalysisHost::new();
+        host.set_file_text("domain.pddl", DOMAIN);
+        let pf = host.set_file_text("problem.pddl", problem.as_str());
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::db::file_units(db, pf)
+                    .iter()
+                    .copied()
+                    .find(|u| u.kind(db) == crate::db::UnitKind::Problem)
+                    .expect("a problem");
+                let config = Config::default();
+                let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
+                let search = Search::new(&prepared.task, &prepared.h, &config);
+                f(&prepared.task, &search)
+            })
+            .expect("not cancelled")
+    }
+
+    /// A duration that reads the fuel is fixed once the fuel at its start
+    /// is known; a step that changes the fuel, ordered before it later,
+    /// would change what it reads, and the plan is dead (its duration in
+    /// the network is no longer the one the validator computes).
+    #[test]
+    fn a_duration_read_from_a_fluent_is_fixed_and_stays_what_its_start_reads() {
+        with_task(2, |task, search| {
+            let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
+            let mut p = Plan::initial(task).expect("a plan");
+            let fill = p.add_step(task, search.h, op("fill"), None).expect("added");
+            let (fs, fe) = (p.steps[fill as usize].start, p.steps[fill as usize].end);
+            assert!(search.numeric_flaw(&mut p).is_none());
+            assert_eq!(p.fixed_duration(fill), Some(3.0));
+            assert!((p.stn.est(fe) - p.stn.est(fs) - 3.0).abs() < 1e-9);
+            let burn = p.add_step(task, search.h, op("burn"), None).expect("added");
+            assert!(p.stn.add(p.steps[burn as usize].start, fs, EPS));
+            assert!(matches!(search.numeric_flaw(&mut p), Some(Flaw::Dead)));
+        });
+    }
+
+    /// The fuel is never above 5 (`:init` gives less, `fill` assigns 5,
+    /// nothing increases it): `guzzle`, which needs 6, is never usable and
+    /// supports nothing; `burn` is kept.
+    #[test]
+    fn an_action_needing_more_than_a_fluent_can_hold_is_never_used() {
+        with_task(2, |task, _| {
+            let dead = |name: &str| task.ops.iter().find(|o| &*o.name == name).expect("an op").dead;
+            assert!(dead("guzzle"));
+            assert!(!dead("burn") && !dead("check") && !dead("fill"));
+            let burnt =
+                task.achievers.iter().find(|(l, _)| task.show_lit(**l) == "(burnt)").expect("achieved");
+            assert!(burnt.1.iter().all(|&(o, _)| &*task.ops[o as usize].name == "burn"));
+        });
+    }
+
+    /// With `fuel` in `:init`: the plan with a `burn` and a `check` step
+    /// and no ordering between them; for each of the orderings the numeric
+    /// threat offers (which happening comes first), whether `check` comes
+    /// first and what the numeric stage finds next.
+    fn orderings(fuel: u32) -> Vec<(bool, Option<String>)> {
+        let problem = format!(
+            "(define (problem p) (:domain tank) (:init (= (fuel) {fuel})) (:goal (and (burnt) (checked))))"
+        );
+        let mut host = AnalysisHost::new();
+        host.set_file_text("domain.pddl", DOMAIN);
+        let pf = host.set_file_text("problem.pddl", problem.as_str());
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::db::file_units(db, pf)
+                    .iter()
+                    .copied()
+                    .find(|u| u.kind(db) == crate::db::UnitKind::Problem)
+                    .expect("a problem");
+                let config = Config::default();
+                let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
+                let task = &prepared.task;
+                let search = Search::new(task, &prepared.h, &config);
+                let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
+                let mut p = Plan::initial(task).expect("a plan");
+                let burn = p.add_step(task, &prepared.h, op("burn"), None).expect("added");
+                let check = p.add_step(task, &prepared.h, op("check"), None).expect("added");
+                let (bs, cs) = (p.steps[burn as usize].start, p.steps[check as usize].start);
+                let Some(Flaw::NumOrder(a, b)) = search.numeric_flaw(&mut p) else {
+                    panic!("the two starts touch the fuel, one writes it: a numeric threat")
+                };
+                assert_eq!([a.min(b), a.max(b)], [bs.min(cs), bs.max(cs)]);
+                let mut children = Vec::new();
+                search.resolvers(&p, Flaw::NumOrder(a, b), &mut children);
+                children
+                    .into_iter()
+                    .map(|mut c| {
+                        let check_first = c.stn.before(cs, bs);
+                        assert!(check_first != c.stn.before(bs, cs), "ordered one way");
+                        assert!(c.stn.est(cs).max(c.stn.est(bs)) >= EPS, "ε apart");
+                        let next = match search.numeric_flaw(&mut c) {
+                            None => None,
+                            Some(Flaw::Numeric(f)) => Some(format!(
+                                "{} reads {:?}",
+                                task.show_op(c.op_of(f.step).expect("op")),
+                                f.value
+                            )),
+                            Some(_) => Some("another flaw".to_string()),
+                        };
+                        (check_first, next)
+                    })
+                    .collect()
+            })
+            .expect("not cancelled")
+    }
+
+    #[test]
+    fn steps_touching_a_fluent_are_ordered_both_ways_and_read_along_the_order() {
+        // Two units: either order works.
+        assert_eq!(orderings(2), [(false, None), (true, None)]);
+        // One unit: `check` after `burn` reads 0.
+        assert_eq!(orderings(1), [(false, Some("(check) reads Some(0.0)".to_string())), (true, None)]);
     }
 }

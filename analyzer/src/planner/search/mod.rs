@@ -195,6 +195,11 @@ enum Flaw {
     Late(Tp),
     /// The next visit of an itinerary (geometric reasoning).
     Visit(Pending),
+    /// Two happenings that touch the same numeric fluent, one writing it,
+    /// not ordered yet.
+    NumOrder(Tp, Tp),
+    /// A numeric condition that does not hold where its step reads it.
+    Numeric(super::numeric::Failed),
     /// A flaw no resolver can solve (a threat with no ordering left, an
     /// itinerary that cannot go on): the plan has no child.
     Dead,

@@ -64,7 +64,13 @@ impl Search<'_, '_> {
     /// step tried: when it says so, the steps found so far go, no more.
     pub fn without_redundant_steps(&self, p: Plan, stop: &dyn Fn() -> bool) -> (Plan, Removed) {
         let mut removed = Removed::default();
-        if self.task.htn.is_some() || p.steps.iter().any(|s| !self.elementary_or_fixed(s.kind)) {
+        // Numeric fluents: the simulation follows literals only, and
+        // removing a step that changes a fluent (a `refuel`) changes what
+        // later steps read; such plans are left as they are.
+        if self.task.htn.is_some()
+            || !self.task.numeric.is_empty()
+            || p.steps.iter().any(|s| !self.elementary_or_fixed(s.kind))
+        {
             return (p, removed);
         }
         let mut p = p;

@@ -7,9 +7,10 @@
 //! timed literals are ordered.
 
 use super::super::itinerary::Geo;
+use super::super::numeric;
 use super::super::plan::{GOAL, INIT, Kind, Open, OpenOrigin, Plan, Threat, ThreatKind};
 use super::super::stn::{EPS, ORIGIN, Tp};
-use super::super::task::{Lit, Task, atom_of, is_neg};
+use super::super::task::{End, Lit, Task, atom_of, is_neg};
 use super::{Flaw, Search};
 
 impl Search<'_, '_> {
@@ -305,6 +306,15 @@ impl Search<'_, '_> {
                     }
                 }
             }
+            Flaw::NumOrder(a, b) => {
+                for (x, y) in [(a, b), (b, a)] {
+                    let mut c = p.clone();
+                    if c.stn.add(x, y, EPS) {
+                        out.push(c);
+                    }
+                }
+            }
+            Flaw::Numeric(f) => self.numeric_resolvers(p, &f, out),
             Flaw::Mutex(a, b) => {
                 for (x, y) in [(a, b), (b, a)] {
                     let mut c = p.clone();
@@ -314,6 +324,55 @@ impl Search<'_, '_> {
                 }
             }
             Flaw::Dead => {}
+        }
+    }
+
+    /// A numeric condition that does not hold: a step of 𝒜 whose effect on
+    /// the fluent makes it hold (a `refuel` before a `fly`), inserted before
+    /// the happening that reads it. Its conditions on positions of members
+    /// with itineraries are linked at once to a step that puts the member
+    /// there (each such producer a child): the itinerary went past it, and
+    /// the new step fits in a stay the plan already has. The other orderings
+    /// of the steps that touch the fluent were the siblings of this plan.
+    pub(super) fn numeric_resolvers(&self, p: &Plan, f: &numeric::Failed, out: &mut Vec<Plan>) {
+        let task = self.task;
+        let Some(o) = p.op_of(f.step) else { return };
+        let Some(cond) = task.ops[o as usize].num_conds.get(f.cond as usize) else { return };
+        for &h in &task.numeric.writers[f.res as usize] {
+            let op = &task.ops[h as usize];
+            if !op.allowed || op.dead || op.is_abstract || !numeric::helps(task, h, f.res, f.value, cond) {
+                continue;
+            }
+            let mut c = p.clone();
+            let Some(s) = c.add_step(task, self.h, h, None) else { continue };
+            let writes_at_end = op.num_effs.iter().any(|e| e.res == f.res && e.at == End::End);
+            let step = c.steps[s as usize];
+            let write = if writes_at_end { step.end } else { step.start };
+            if !c.stn.add(write, f.tp, EPS) {
+                continue;
+            }
+            self.link_positions(c, s, out);
+        }
+    }
+
+    /// Links the open conditions of step `s` on positions of members with
+    /// itineraries to each step that can put the member there before.
+    fn link_positions(&self, p: Plan, s: u32, out: &mut Vec<Plan>) {
+        let found = p.open.iter().position(|o| o.step == s && self.is_visit(o));
+        let Some(i) = found else {
+            out.push(p);
+            return;
+        };
+        let o = p.open[i];
+        let mut prod = Vec::new();
+        self.producers(&p, &o, &mut prod);
+        let mut base = p;
+        base.remove_open(i);
+        for (from, tp) in prod {
+            let mut c = base.clone();
+            if c.add_link(self.task, from, tp, &o) {
+                self.link_positions(c, s, out);
+            }
         }
     }
 
