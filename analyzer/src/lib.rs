@@ -7,6 +7,7 @@
 pub mod alloc;
 pub mod db;
 pub mod diagnostic;
+pub(crate) mod eval;
 pub mod fix;
 mod host;
 pub mod ide;

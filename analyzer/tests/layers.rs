@@ -19,6 +19,7 @@ const LAYERS: &[&[&str]] = &[
     &["fix"],
     &["semantics"],
     &["verify"],
+    &["eval"],
     &["plan"],
     &["validate", "planner"],
     &["repair"],

@@ -24,9 +24,9 @@ use rustc_hash::FxHashMap;
 use super::plan::{Kind, Plan};
 use super::stn::Tp;
 use super::task::{End, Task};
+use crate::eval::{Binding, Eval, FluentId, NumOp, State, World};
 use crate::model::{CmpOp, Gd, NumExpr, Str};
 use crate::semantics::symbols::Loc;
-use crate::validate::eval::{Binding, Eval, FluentId, NumOp, State, World};
 use crate::verify::state::ObjId;
 
 /// The values of an operator's parameters (and quantified variables).

@@ -27,13 +27,13 @@ use rustc_hash::FxHashMap;
 use super::PlannerLimits;
 use super::numeric::{NumCond, NumDuration, NumEff, Numeric};
 use crate::db::{Db, Item, Section, Unit, UnitKind, lower_item};
+use crate::eval::NumOp;
 use crate::model::{
     ActionKind, CmpOp, Effect, Endpoint, Gd, ItemData, Method, NumExpr, Ordering, Str, TaskNetwork, Term,
     TimeSpec, Typed,
 };
 use crate::semantics::check::{domain_for, gd_span};
 use crate::semantics::symbols::Loc;
-use crate::validate::eval::NumOp;
 use crate::verify::ground::{Ground, Limits, MethodEvent, ground_planner, ground_relevant, visit_methods};
 use crate::verify::lifted::OperatorKind;
 use crate::verify::state::{AtomId, ObjId, PredId};

@@ -3,8 +3,8 @@
 //! reference validator, and reports each failure like a compiler error: the
 //! step, what failed, why, where in the domain and problem, and how to repair.
 //!
-//! - `eval/`: ground states; conditions, numeric expressions and effects
-//!   evaluated in them.
+//! - `crate::eval`: ground states; conditions, numeric expressions and
+//!   effects evaluated in them (shared with the planner's numeric fluents).
 //! - `temporal/`: the happenings of a timed plan and the checks at each.
 //! - [`file`]: a plan file read and validated; the one entry point of the
 //!   CLI and the editor.
@@ -43,7 +43,6 @@
 //! Interfering events of different happenings that are closer than the
 //! tolerance are accepted, as VAL accepts them, with the warning W0411.
 
-pub(crate) mod eval;
 pub mod file;
 pub mod hierarchy;
 mod temporal;

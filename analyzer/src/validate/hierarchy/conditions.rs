@@ -26,14 +26,14 @@ use super::decompose::{precedences, transitive};
 use super::timeline::{EventKind, Timeline};
 use crate::db::{Section, lower_item};
 use crate::diagnostic::codes;
+use crate::eval::{
+    Binding, Changes, Eval, EvalError, GroundWorld, Phase, Res, State, World, fmt_num, fmt_operands,
+    for_each_binding, has_timed, op_text, split_timed,
+};
 use crate::model::{
     ActionKind, CmpOp, Effect, Gd, InitElement, ItemData, Method, NumExpr, Str, Term, TimeSpec, Typed,
 };
 use crate::semantics::symbols::Loc;
-use crate::validate::eval::{
-    Binding, Changes, Eval, EvalError, GroundWorld, Phase, Res, State, World, fmt_num, fmt_operands,
-    for_each_binding, has_timed, op_text, split_timed,
-};
 use crate::verify::state::{Atoms, ObjId};
 
 /// Variables and their values.
@@ -692,7 +692,7 @@ fn duration_num<'m>(
         NumExpr::Duration(_) => Ok(c.duration),
         NumExpr::TaskDuration(id, span) => {
             c.subtasks.iter().find(|(k, _)| *k == id.key).map(|(_, d)| *d).ok_or_else(|| EvalError {
-                kind: crate::validate::eval::ErrorKind::Unresolved,
+                kind: crate::eval::ErrorKind::Unresolved,
                 message: format!("`{}` is not a subtask with times", id.text),
                 span: *span,
                 fluent: None,

@@ -10,10 +10,10 @@ use super::Cx;
 use super::decompose::{Net, Owner, subtask_index, subtask_label};
 use super::matching::OrderingCheck;
 use crate::diagnostic::codes;
+use crate::eval::fmt_num;
 use crate::model::{ActionKind, CmpOp, Endpoint, Ordering, TaskNetwork};
 use crate::plan::{Plan, StepId};
 use crate::semantics::symbols::Loc;
-use crate::validate::eval::fmt_num;
 
 /// An event of the execution: a primitive step, or the start or end of a
 /// durative one.

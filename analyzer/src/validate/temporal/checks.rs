@@ -3,11 +3,11 @@
 
 use super::{Event, Run, plan_start};
 use crate::diagnostic::codes;
+use crate::eval::{Binding, ErrorKind, Eval, fmt_exact, fmt_num, fmt_operands};
 use crate::model::{CmpOp, Gd, NumExpr};
 use crate::semantics::check::gd_span;
 use crate::semantics::symbols::Loc;
 use crate::validate::Failure;
-use crate::validate::eval::{Binding, ErrorKind, Eval, fmt_exact, fmt_num, fmt_operands};
 
 impl<'a, 'db> Run<'a, 'db> {
     /// Checks a duration constraint of a step; `None` when it holds.

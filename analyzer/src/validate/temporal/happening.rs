@@ -5,9 +5,9 @@
 use super::mutex::{causal, interferences};
 use super::{Actor, Change, Event, Run, TilChange, Touch};
 use crate::diagnostic::{Severity, codes};
+use crate::eval::{Changes, Eval, NumOp, Phase, Reads, Update, Why, fmt_num, split_timed};
 use crate::semantics::check::gd_span;
 use crate::validate::Failure;
-use crate::validate::eval::{Changes, Eval, NumOp, Phase, Reads, Update, Why, fmt_num, split_timed};
 
 impl<'a, 'db> Run<'a, 'db> {
     pub(super) fn happening(&mut self, h: usize, events: &[Event], active: &mut Vec<usize>) {

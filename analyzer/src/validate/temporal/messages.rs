@@ -6,9 +6,9 @@ use rowan::TextRange;
 
 use super::{Actor, Event, Run, plan_start};
 use crate::diagnostic::{Code, codes};
+use crate::eval::{ErrorKind, EvalError, Why, fmt_exact, fmt_num};
 use crate::semantics::symbols::Loc;
 use crate::validate::Failure;
-use crate::validate::eval::{ErrorKind, EvalError, Why, fmt_exact, fmt_num};
 
 /// A culprit for a false condition: what to add to the message, where.
 #[derive(Default)]

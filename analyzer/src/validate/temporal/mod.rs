@@ -25,10 +25,10 @@ mod tests;
 use rowan::TextRange;
 use rustc_hash::FxHashMap;
 
-use super::eval::{Binding, FluentId, Key, NumOp, Spanning, State, World, split_timed};
 use super::{Failure, Options, Report, TimedStep};
 use crate::db::{Db, Item, Unit, UnitKind};
 use crate::diagnostic::{Severity, codes};
+use crate::eval::{Binding, FluentId, Key, NumOp, Spanning, State, World, split_timed};
 use crate::model::{Action, Gd, Name, NumExpr};
 use crate::semantics::check::domain_for;
 use crate::semantics::symbols::Loc;

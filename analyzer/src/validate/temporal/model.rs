@@ -7,10 +7,10 @@ use rustc_hash::FxHashMap;
 use super::{Model, Step, Til, TilChange};
 use crate::db::{Db, Section, Unit, lower_item};
 use crate::diagnostic::codes;
+use crate::eval::{GroundWorld, Key, fmt_num};
 use crate::model::{Action, ActionKind, Gd, InitElement, ItemData, Name, NumExpr, Term};
 use crate::semantics::check::{gd_span, suggest};
 use crate::semantics::symbols::{Loc, domain_symbols, problem_symbols, type_set};
-use crate::validate::eval::{GroundWorld, Key, fmt_num};
 use crate::validate::{Failure, Options, TimedStep};
 use crate::verify::state::{Interner, ObjId, Objects, constant};
 

@@ -6,8 +6,8 @@ use rustc_hash::FxHashMap;
 
 use super::{Actor, Event, Run, Touch};
 use crate::diagnostic::codes;
+use crate::eval::{FluentId, Key, NumOp, Why, fmt_num};
 use crate::validate::Failure;
-use crate::validate::eval::{FluentId, Key, NumOp, Why, fmt_num};
 use crate::verify::state::AtomId;
 
 /// How two events of a happening interfere.
