@@ -236,6 +236,22 @@ pub(crate) fn spawn_until(mut command: Command, deadline: Duration) -> ChildEnd 
     }
 }
 
+/// The `.pddl` files of a corpus set's `instances` folder, by the number in
+/// their names (`instance-2` before `instance-10`).
+fn instances(dir: &Path) -> Vec<PathBuf> {
+    let stem = |p: &Path| p.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
+    let mut ps: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.flatten().map(|e| e.path()).filter(|p| p.extension().is_some_and(|e| e == "pddl")).collect()
+        })
+        .unwrap_or_default();
+    ps.sort_by_key(|p| {
+        let digits: String = stem(p).chars().filter(char::is_ascii_digit).collect();
+        (digits.parse::<u64>().unwrap_or(u64::MAX), stem(p))
+    });
+    ps
+}
+
 /// Problems of the suites, as (suite, group, problem name, domain, problem) — generated
 /// inputs are written under `inputs`. Skipped suites are reported in `notes`.
 pub(crate) fn problems(
@@ -295,20 +311,7 @@ pub(crate) fn problems(
                         }
                     }
                 } else {
-                    let dir = corpus.join("instances");
-                    let mut ps: Vec<PathBuf> = std::fs::read_dir(&dir)
-                        .map(|d| {
-                            d.flatten()
-                                .map(|e| e.path())
-                                .filter(|p| p.extension().is_some_and(|e| e == "pddl"))
-                                .collect()
-                        })
-                        .unwrap_or_default();
-                    ps.sort_by_key(|p| {
-                        let digits: String = stem(p).chars().filter(char::is_ascii_digit).collect();
-                        (digits.parse::<u64>().unwrap_or(u64::MAX), stem(p))
-                    });
-                    for p in ps {
+                    for p in instances(&corpus.join("instances")) {
                         out.push((suite, suite.to_string(), stem(&p), corpus.join("domain.pddl"), p));
                     }
                 }
@@ -389,19 +392,7 @@ pub(crate) fn problems(
                 let per_set = a.per_domain.unwrap_or(10);
                 for set in sets {
                     let group = set.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-                    let mut ps: Vec<PathBuf> = std::fs::read_dir(set.join("instances"))
-                        .map(|d| {
-                            d.flatten()
-                                .map(|e| e.path())
-                                .filter(|p| p.extension().is_some_and(|e| e == "pddl"))
-                                .collect()
-                        })
-                        .unwrap_or_default();
-                    ps.sort_by_key(|p| {
-                        let digits: String = stem(p).chars().filter(char::is_ascii_digit).collect();
-                        (digits.parse::<u64>().unwrap_or(u64::MAX), stem(p))
-                    });
-                    for p in ps.into_iter().take(per_set) {
+                    for p in instances(&set.join("instances")).into_iter().take(per_set) {
                         out.push((suite, group.clone(), stem(&p), set.join("domain.pddl"), p));
                     }
                 }

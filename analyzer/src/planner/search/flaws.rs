@@ -301,8 +301,7 @@ impl Search<'_, '_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::super::task::Task;
-    use super::super::super::{Config, PlannerLimits, prepare};
+    use super::super::super::{Config, PlannerLimits, Prepared, prepare};
     use super::*;
     use crate::AnalysisHost;
 
@@ -325,10 +324,10 @@ mod tests {
     :condition (at start (<= 6 (fuel)))
     :effect (and (at start (decrease (fuel) 6)) (at end (burnt)))))";
 
-    /// Runs `f` on the task of a problem with `fuel` in `:init`.
+    /// Runs `f` on the prepared problem with `fuel` in `:init`, and a search of it.
     fn with_task<T>(
         fuel: u32,
-        f: impl FnOnce(&Task<'_>, &Search<'_, '_>) -> T + std::panic::UnwindSafe,
+        f: impl FnOnce(&Prepared<'_>, &Search<'_, '_>) -> T + std::panic::UnwindSafe,
     ) -> T {
         let problem = format!(
             "(define (problem p) (:domain tank) (:init (= (fuel) {fuel})) (:goal (and (burnt) (checked))))"
@@ -346,7 +345,7 @@ mod tests {
                 let config = Config::default();
                 let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
                 let search = Search::new(&prepared.task, &prepared.h, &config);
-                f(&prepared.task, &search)
+                f(&prepared, &search)
             })
             .expect("not cancelled")
     }
@@ -357,7 +356,8 @@ mod tests {
     /// the network is no longer the one the validator computes).
     #[test]
     fn a_duration_read_from_a_fluent_is_fixed_and_stays_what_its_start_reads() {
-        with_task(2, |task, search| {
+        with_task(2, |prepared, search| {
+            let task = &prepared.task;
             let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
             let mut p = Plan::initial(task).expect("a plan");
             let fill = p.add_step(task, search.h, op("fill"), None).expect("added");
@@ -376,7 +376,8 @@ mod tests {
     /// supports nothing; `burn` is kept.
     #[test]
     fn an_action_needing_more_than_a_fluent_can_hold_is_never_used() {
-        with_task(2, |task, _| {
+        with_task(2, |prepared, _| {
+            let task = &prepared.task;
             let dead = |name: &str| task.ops.iter().find(|o| &*o.name == name).expect("an op").dead;
             assert!(dead("guzzle"));
             assert!(!dead("burn") && !dead("check") && !dead("fill"));
@@ -391,54 +392,38 @@ mod tests {
     /// threat offers (which happening comes first), whether `check` comes
     /// first and what the numeric stage finds next.
     fn orderings(fuel: u32) -> Vec<(bool, Option<String>)> {
-        let problem = format!(
-            "(define (problem p) (:domain tank) (:init (= (fuel) {fuel})) (:goal (and (burnt) (checked))))"
-        );
-        let mut host = AnalysisHost::new();
-        host.set_file_text("domain.pddl", DOMAIN);
-        let pf = host.set_file_text("problem.pddl", problem.as_str());
-        host.analysis()
-            .with_db(|db| {
-                let unit = crate::db::file_units(db, pf)
-                    .iter()
-                    .copied()
-                    .find(|u| u.kind(db) == crate::db::UnitKind::Problem)
-                    .expect("a problem");
-                let config = Config::default();
-                let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
-                let task = &prepared.task;
-                let search = Search::new(task, &prepared.h, &config);
-                let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
-                let mut p = Plan::initial(task).expect("a plan");
-                let burn = p.add_step(task, &prepared.h, op("burn"), None).expect("added");
-                let check = p.add_step(task, &prepared.h, op("check"), None).expect("added");
-                let (bs, cs) = (p.steps[burn as usize].start, p.steps[check as usize].start);
-                let Some(Flaw::NumOrder(a, b)) = search.numeric_flaw(&mut p) else {
-                    panic!("the two starts touch the fuel, one writes it: a numeric threat")
-                };
-                assert_eq!([a.min(b), a.max(b)], [bs.min(cs), bs.max(cs)]);
-                let mut children = Vec::new();
-                search.resolvers(&p, Flaw::NumOrder(a, b), &mut children);
-                children
-                    .into_iter()
-                    .map(|mut c| {
-                        let check_first = c.stn.before(cs, bs);
-                        assert!(check_first != c.stn.before(bs, cs), "ordered one way");
-                        assert!(c.stn.est(cs).max(c.stn.est(bs)) >= EPS, "ε apart");
-                        let next = match search.numeric_flaw(&mut c) {
-                            None => None,
-                            Some(Flaw::Numeric(f)) => Some(format!(
-                                "{} reads {:?}",
-                                task.show_op(c.op_of(f.step).expect("op")),
-                                f.value
-                            )),
-                            Some(_) => Some("another flaw".to_string()),
-                        };
-                        (check_first, next)
-                    })
-                    .collect()
-            })
-            .expect("not cancelled")
+        with_task(fuel, |prepared, search| {
+            let task = &prepared.task;
+            let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
+            let mut p = Plan::initial(task).expect("a plan");
+            let burn = p.add_step(task, &prepared.h, op("burn"), None).expect("added");
+            let check = p.add_step(task, &prepared.h, op("check"), None).expect("added");
+            let (bs, cs) = (p.steps[burn as usize].start, p.steps[check as usize].start);
+            let Some(Flaw::NumOrder(a, b)) = search.numeric_flaw(&mut p) else {
+                panic!("the two starts touch the fuel, one writes it: a numeric threat")
+            };
+            assert_eq!([a.min(b), a.max(b)], [bs.min(cs), bs.max(cs)]);
+            let mut children = Vec::new();
+            search.resolvers(&p, Flaw::NumOrder(a, b), &mut children);
+            children
+                .into_iter()
+                .map(|mut c| {
+                    let check_first = c.stn.before(cs, bs);
+                    assert!(check_first != c.stn.before(bs, cs), "ordered one way");
+                    assert!(c.stn.est(cs).max(c.stn.est(bs)) >= EPS, "ε apart");
+                    let next = match search.numeric_flaw(&mut c) {
+                        None => None,
+                        Some(Flaw::Numeric(f)) => Some(format!(
+                            "{} reads {:?}",
+                            task.show_op(c.op_of(f.step).expect("op")),
+                            f.value
+                        )),
+                        Some(_) => Some("another flaw".to_string()),
+                    };
+                    (check_first, next)
+                })
+                .collect()
+        })
     }
 
     #[test]
