@@ -644,6 +644,9 @@ fn problem_agents(db: &dyn crate::db::Db, problem: SourceFile) -> AgentTable {
 }
 
 /// The first problem of a file.
-fn first_problem<'db>(db: &'db dyn crate::db::Db, file: SourceFile) -> Option<crate::db::Unit<'db>> {
+pub(crate) fn first_problem<'db>(
+    db: &'db dyn crate::db::Db,
+    file: SourceFile,
+) -> Option<crate::db::Unit<'db>> {
     crate::db::file_units(db, file).iter().copied().find(|u| u.kind(db) == crate::db::UnitKind::Problem)
 }

@@ -337,11 +337,7 @@ mod tests {
         let pf = host.set_file_text("problem.pddl", problem.as_str());
         host.analysis()
             .with_db(|db| {
-                let unit = crate::db::file_units(db, pf)
-                    .iter()
-                    .copied()
-                    .find(|u| u.kind(db) == crate::db::UnitKind::Problem)
-                    .expect("a problem");
+                let unit = crate::host::first_problem(db, pf).expect("a problem");
                 let config = Config::default();
                 let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
                 let search = Search::new(&prepared.task, &prepared.h, &config);

@@ -415,11 +415,7 @@ mod tests {
         let (text, removed) = host
             .analysis()
             .with_db(|db| {
-                let unit = crate::db::file_units(db, pf)
-                    .iter()
-                    .copied()
-                    .find(|u| u.kind(db) == crate::db::UnitKind::Problem)
-                    .expect("a problem");
+                let unit = crate::host::first_problem(db, pf).expect("a problem");
                 let config = Config::default();
                 // Every reachable instance: the steps given include some the
                 // goal does not need, which is what the pass is about.
