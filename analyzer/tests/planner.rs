@@ -317,6 +317,21 @@ fn the_open_list_ranked_by_plan_size_finds_driverlog_plans() {
     assert_eq!(alone.status, Status::Limit(hipop_analyzer::planner::LimitKind::Nodes));
 }
 
+/// A greedy descent stays near the plan it starts from: on a ZenoTravel-like
+/// problem, the descent from the plan reached after 1,024 expansions took a
+/// shuttle's `leap` from a town to itself as the cheapest supporter of its
+/// own condition, again and again, hundreds of steps deep (and ever slower);
+/// now no plan it expands has more than the plan's steps plus twice its
+/// remaining effort and 16.
+#[test]
+fn greedy_descents_do_not_dive_down_chains_of_steps() {
+    let path = root().join("tests/planner/shuttle-leaps-to-itself.pddl");
+    let nodes = PlannerLimits { nodes: Some(1500), ..limits(600) };
+    let (_, result) = plan(&path, &path, &Config::default(), &nodes);
+    assert!(result.stats.expanded > 1024, "the descent at 1,024 expansions ran");
+    assert!(result.stats.largest <= 40, "a plan of {} steps was expanded", result.stats.largest);
+}
+
 /// Patrols (abstract actions) that do not declare where they leave their
 /// robot: a position link waits until the patrol before it is refined, so
 /// that its chain of moves starts where the patrol ends.

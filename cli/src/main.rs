@@ -224,7 +224,8 @@ struct PlanArgs {
     #[arg(short, long)]
     quiet: bool,
     /// Print the search statistics: plans expanded and generated, time,
-    /// plans per second, ground operators, method instances, open list peak.
+    /// plans per second, ground operators, method instances, open list peak,
+    /// the most steps of a plan expanded.
     #[arg(long)]
     stats: bool,
     /// The plan's timeline, one lane per agent (`--gantt` after the plan on

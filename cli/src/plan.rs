@@ -147,14 +147,15 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
     }
     if options.stats {
         eprintln!(
-            "search: {} plans expanded, {} generated in {:.3} s ({:.0} plans/s); {} ground operators, {} method instances; open list peak {}",
+            "search: {} plans expanded, {} generated in {:.3} s ({:.0} plans/s); {} ground operators, {} method instances; open list peak {}; largest plan expanded {} steps",
             stats.expanded,
             stats.generated,
             stats.elapsed.as_secs_f64(),
             stats.expanded as f64 / stats.elapsed.as_secs_f64().max(1e-9),
             stats.operators,
             stats.methods,
-            stats.peak_open
+            stats.peak_open,
+            stats.largest
         );
         if stats.redundant_removed > 0 {
             eprintln!(

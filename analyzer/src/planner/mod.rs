@@ -290,6 +290,9 @@ pub struct Stats {
     pub generated: u64,
     pub open: usize,
     pub peak_open: usize,
+    /// The most steps of a plan the search expanded, greedy descents
+    /// included.
+    pub largest: usize,
     pub elapsed: Duration,
     /// Ground operators and method instances of the task.
     pub operators: usize,
@@ -502,6 +505,7 @@ impl<'db> Prepared<'db> {
             stats.expanded += run.expanded;
             stats.generated += run.generated;
             stats.peak_open = stats.peak_open.max(run.peak_open);
+            stats.largest = stats.largest.max(run.largest);
             stats.redundant_time += run.redundant_time;
         };
         // The search without abstract actions, for at most half the time left.

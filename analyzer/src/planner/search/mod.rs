@@ -50,6 +50,10 @@ const STEP_COST: f64 = 0.02;
 /// many steps as a near one's), and its size list only costs its nodes.
 const SIZE_LANE_AFTER: u64 = 1000;
 
+/// Steps a greedy descent may add beyond twice the remaining effort of the
+/// plan it starts from ([`Search::probe_steps`]).
+const PROBE_SPARE_STEPS: usize = 16;
+
 /// The open lists, left unfreed at their end when the process exits next
 /// ([`PlannerLimits::exits_after`]): one ranked by `f` (the makespan and
 /// the estimates in time), and, unless the configuration says `nosteps`,
@@ -283,12 +287,14 @@ impl<'a, 'db> Search<'a, 'db> {
     }
 
     /// Greedy completion: a depth-first descent from a plan's children (in
-    /// [`Scored::probe_order`]) that backtracks, within `budget` expansions.
+    /// [`Scored::probe_order`]) that backtracks, within `budget` expansions
+    /// and through plans of at most `max_steps` steps.
     /// A plan it finds has no flaw, like one A* would return.
     fn probe(
         &self,
         first: Vec<Plan>,
         budget: u64,
+        max_steps: usize,
         admits: &dyn Fn(f64) -> bool,
         stats: &mut Stats,
         deadline: &dyn Fn() -> bool,
@@ -307,6 +313,7 @@ impl<'a, 'db> Search<'a, 'db> {
             p.stn.defer();
             spent += 1;
             stats.expanded += 1;
+            stats.largest = stats.largest.max(p.steps.len());
             if spent > budget || deadline() {
                 return None;
             }
@@ -315,10 +322,25 @@ impl<'a, 'db> Search<'a, 'db> {
                 return Some(p);
             };
             let mut scored = self.expand(&p, flaw, stats, &mut |_| {});
-            scored.retain(|c| admits(c.span));
+            scored.retain(|c| admits(c.span) && c.plan.steps.len() <= max_steps);
             scored.sort_by(Scored::probe_order);
             stack.push(scored.into_iter().map(|x| x.plan).collect::<Vec<_>>().into_iter());
         }
+    }
+
+    /// The most steps a greedy descent from a plan may reach: its steps,
+    /// plus twice its remaining effort (the estimate of its flaws in
+    /// actions, and its threats) and [`PROBE_SPARE_STEPS`]. A descent
+    /// always takes the cheapest child first, and when no step already
+    /// there can support a link, a new step that needs the same literal
+    /// again is often the cheapest (ZenoTravel's `zoom` from a city to
+    /// itself: it needs the aircraft there, and its own supporter is one
+    /// more such `zoom`): unbounded, the descent went hundreds of steps
+    /// down that chain, each expansion slower than the last (hundreds of
+    /// threats), and one descent outlasted a 10 s limit.
+    fn probe_steps(&self, plan: &Plan) -> usize {
+        let (_, effort) = self.estimate(plan);
+        plan.steps.len() + 2 * effort.min(1e6) as usize + PROBE_SPARE_STEPS
     }
 
     /// What a plan without flaws costs: its `g` (the makespan, or the
@@ -440,6 +462,7 @@ impl<'a, 'db> Search<'a, 'db> {
             stats.expanded += 1;
             stats.open = heap.len();
             stats.peak_open = stats.peak_open.max(heap.len());
+            stats.largest = stats.largest.max(plan.steps.len());
             keep_best(&plan, best, &mut best_effort);
             // At every expansion: one can take a tenth of a second on a
             // large task (8,000 ground operators), and 32 of them would
@@ -517,10 +540,11 @@ impl<'a, 'db> Search<'a, 'db> {
                         .map(|o| self.h.refine_effort[o as usize].min(1e6) as u64)
                         .sum::<u64>();
                 let budget = 256 + 4 * remaining;
+                let max_steps = self.probe_steps(&plan);
                 let mut first: Vec<&Scored> = scored.iter().collect();
                 first.sort_by(|a, b| Scored::probe_order(a, b));
                 let first = first.into_iter().map(|s| s.plan.clone()).collect();
-                if let Some(plan) = self.probe(first, budget, &admits, stats, &time_up)
+                if let Some(plan) = self.probe(first, budget, max_steps, &admits, stats, &time_up)
                     && let Some(end) = found(plan, stats, &mut incumbent, &mut heap, progress)
                 {
                     return end;

@@ -250,7 +250,8 @@ impl Search<'_, '_> {
             None => c,
             Some(_) => {
                 let mut stats = Stats::default();
-                let done = self.probe(vec![c], 64 + 4 * size as u64, &|_| true, &mut stats, &|| false)?;
+                let done =
+                    self.probe(vec![c], 64 + 4 * size as u64, size, &|_| true, &mut stats, &|| false)?;
                 if done.steps.len() != size {
                     return None;
                 }
