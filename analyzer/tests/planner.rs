@@ -512,6 +512,58 @@ fn free_method_variables_are_bound_by_their_subtasks() {
     }
 }
 
+/// A method whose three subtasks each have parameters of their own (any
+/// part stamped and labelled, with any machine): 2,500,000 instances, past
+/// the grounding limits (E0501). Split off the method, each subtask is a
+/// choice among its own instances; the plan names the method with its
+/// three subtasks, not the choices.
+#[test]
+fn subtasks_with_parameters_of_their_own_are_split_off_their_method() {
+    let plan = solve_fixture("subtasks-with-parameters-of-their-own.hddl");
+    let hier = plan.to_hierarchical("t");
+    assert!(hier.contains("root 3\n3 finish p0 -> polish-stamp-label 0 1 2\n"), "{hier}");
+    assert_eq!(plan.steps.len(), 4, "{hier}");
+}
+
+/// IPC 2020 Woodworking problem 19 (20 parts, 105 machines): its methods
+/// colour any part with any machine, whatever the part they process, and
+/// their subtasks' other parameters are requested for every argument of the
+/// task. Grounding stopped at 1,500,000 requests and instances (E0501);
+/// with the split subtasks and the requests over the task's arguments they
+/// name, it grounds and the search starts.
+#[test]
+fn woodworking_methods_with_free_parts_are_grounded() {
+    let Some(corpora) = corpora() else {
+        eprintln!("skipped: no corpora (set HIPOP_CORPORA)");
+        return;
+    };
+    let dir = corpora.join("ipc2020-hddl/partial-order/Woodworking");
+    let (domain, problem) = (dir.join("domain.hddl"), dir.join("19.hddl"));
+    let nodes = PlannerLimits { nodes: Some(50), ..limits(600) };
+    let (_, result) = plan(&domain, &problem, &Config::default(), &nodes);
+    assert_ne!(result.status, Status::Refused, "{:?}", result.diagnostics);
+    assert!(result.stats.expanded > 0, "{:?}", result.diagnostics);
+}
+
+/// IPC 2020 Rover problem 6: refinements of equal makespan so far (which
+/// rover, which waypoint) are many, and A* expanded them level by level
+/// (183,000 plans in 10 s, no plan). Weighted A* (`h` twice) on purely
+/// hierarchical problems follows the smaller decomposition estimate: a plan
+/// within 100,000 expansions (65,617 on 2026-11-26).
+#[test]
+fn weighted_search_plans_rover_6() {
+    let Some(corpora) = corpora() else {
+        eprintln!("skipped: no corpora (set HIPOP_CORPORA)");
+        return;
+    };
+    let dir = corpora.join("ipc2020-hddl/partial-order/Rover");
+    let (domain, problem) = (dir.join("domain.hddl"), dir.join("pfile06.hddl"));
+    let nodes = PlannerLimits { nodes: Some(100_000), first: true, ..limits(600) };
+    let (mut host, result) = plan(&domain, &problem, &Config::default(), &nodes);
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &problem, &result);
+}
+
 /// `:htn` parameters (every binding is a start) and method `:constraints`
 /// (they restrict the method's instances), as IPC 2020 domains use them.
 #[test]

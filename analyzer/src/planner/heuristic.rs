@@ -115,7 +115,9 @@ impl Heuristic {
                 // The method's preconditions (relaxed: their h_add; one
                 // that cannot be reached rules the method out), then its
                 // subtasks.
-                let (mut c, mut e) = (0.0, 1.0);
+                // A choice (an `:htn` task's instance, a split subtask's)
+                // is no method of the plan.
+                let (mut c, mut e) = (0.0, if task.ops[m.task as usize].choice { 0.0 } else { 1.0 });
                 for p in &m.pre {
                     c += cost[p.lit as usize];
                     e += effort[p.lit as usize];

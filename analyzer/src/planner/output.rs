@@ -100,7 +100,8 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
     };
     // Output order: primitive steps by start, then abstract ones by start.
     // A choice among an `:htn` task's instances is not written: the
-    // instance chosen is a root.
+    // instance chosen is a root. Nor is a choice among a split subtask's
+    // instances: the instance chosen is a subtask of the choice's method.
     let choice = |s: u32| p.op_of(s).is_some_and(|o| task.ops[o as usize].choice);
     let mut order: Vec<u32> =
         (0..p.steps.len() as u32).filter(|&s| p.op_of(s).is_some() && !choice(s)).collect();
@@ -157,7 +158,12 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
         .collect();
     let mut root = Vec::new();
     for &s in &order {
-        match p.steps[s as usize].parent.filter(|&parent| !choice(parent)) {
+        // A step chosen for a split subtask is its method's.
+        let mut parent = p.steps[s as usize].parent;
+        while let Some(q) = parent.filter(|&q| choice(q)) {
+            parent = p.steps[q as usize].parent;
+        }
+        match parent {
             Some(parent) => {
                 let (pid, cid) = (id_of[parent as usize], id_of[s as usize]);
                 steps[pid].subtasks.push(cid);
@@ -177,7 +183,7 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
         match p.steps[s as usize].kind {
             Kind::Init | Kind::Goal => Some(None),
             Kind::Til(_) => None,
-            Kind::Op(_) => Some(Some(id_of[s as usize])),
+            Kind::Op(_) => Some(Some(id_of[s as usize]).filter(|&id| id != usize::MAX)),
         }
     };
     let causal_links = p
@@ -199,9 +205,20 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
     // Time point → step point.
     let mut point: Vec<Option<SolvedPoint>> = vec![None; p.stn.len()];
     point[ORIGIN as usize] = Some(None);
+    // A choice's points are its instance's (the step it refines into,
+    // within it): orderings through the choice hold for the instance.
+    let mut written = id_of.clone();
+    for (s, st) in p.steps.iter().enumerate() {
+        if let Some(q) = st.parent.filter(|&q| choice(q)) {
+            written[q as usize] = id_of[s];
+        }
+    }
     for (s, st) in p.steps.iter().enumerate() {
         if let Kind::Op(_) = st.kind {
-            let id = id_of[s];
+            let id = written[s];
+            if id == usize::MAX {
+                continue;
+            }
             point[st.start as usize] = Some(Some((id, false)));
             if st.end != st.start {
                 point[st.end as usize] = Some(Some((id, true)));

@@ -34,8 +34,10 @@ use crate::model::{
 };
 use crate::semantics::check::{domain_for, gd_span};
 use crate::semantics::symbols::Loc;
-use crate::verify::ground::{Ground, Limits, MethodEvent, ground_planner, ground_relevant, visit_methods};
-use crate::verify::lifted::OperatorKind;
+use crate::verify::ground::{
+    Ground, Limits, MethodEvent, UNBOUND, ground_planner, ground_relevant, visit_methods,
+};
+use crate::verify::lifted::{OperatorKind, method_schema};
 use crate::verify::state::{AtomId, ObjId, PredId};
 
 /// A signed atom: `atom * 2`, plus 1 when negated.
@@ -102,9 +104,10 @@ pub struct Op<'db> {
     pub methods: Vec<u32>,
     /// Some condition can never hold (an atom no operator adds): never usable.
     pub dead: bool,
-    /// The choice of an `:htn` task's arguments (its methods are the task's
-    /// ground instances): not an operator of the domain, and not written in
-    /// plans (its child is a root).
+    /// The choice of an `:htn` task's arguments, or of a split subtask's
+    /// (its methods are the task's ground instances): not an operator of
+    /// the domain, and not written in plans (its child is a root, or a
+    /// subtask of the choice's parent).
     pub choice: bool,
     /// Numeric conditions, effects and a duration that read or write the
     /// resources the search follows ([`super::numeric`]).
@@ -860,6 +863,15 @@ pub fn compile<'db>(
     let mut cache: FxHashMap<Item<'db>, Option<&'db Method>> = FxHashMap::default();
     // Instances of the method being visited, to say why it was cut.
     let mut visited = 0usize;
+    // The subtasks split off their methods: each is an abstract operator
+    // (after the others) choosing among its ground instances.
+    let split_base = ops.len() as u32;
+    let split_index: FxHashMap<(Item<'db>, usize, &[ObjId]), u32> = g
+        .tdg_splits
+        .iter()
+        .enumerate()
+        .map(|(x, s)| ((s.method, s.subtask, &s.args[..]), split_base + x as u32))
+        .collect();
     visit_methods(db, problem, g, method_limits, &mut |event| match event {
         MethodEvent::Instance(m) => {
             visited += 1;
@@ -870,8 +882,13 @@ pub fn compile<'db>(
             let Some(method) = method else { return };
             let Some(&task) = op_index.get(&(Str::from(m.task), m.task_args)) else { return };
             let mut subtasks = Vec::new();
-            for ((name, args), st) in m.subtasks().zip(&method.network.subtasks) {
-                let Some(&op) = op_index.get(&(Str::from(name), args)) else { return };
+            for (i, ((name, args), st)) in m.subtasks().zip(&method.network.subtasks).enumerate() {
+                let op = if args.contains(&UNBOUND) {
+                    split_index.get(&(m.method, i, args))
+                } else {
+                    op_index.get(&(Str::from(name), args))
+                };
+                let Some(&op) = op else { return };
                 subtasks.push((st.id.as_ref().map(|n| n.key.clone()), op));
             }
             let b = binding(&method.params, m.binding);
@@ -950,6 +967,47 @@ pub fn compile<'db>(
             };
             c.unsupported(item, span, "method effects");
         }
+    }
+    for split in &g.tdg_splits {
+        let Some(name) =
+            method_schema(db, split.method).as_ref().map(|m| m.subtasks[split.subtask].name.clone())
+        else {
+            continue;
+        };
+        let choice = ops.len() as u32;
+        let mut item = None;
+        for args in &split.choices {
+            if let Some(&op) = op_index.get(&(name.clone(), &args[..])) {
+                item.get_or_insert(ops[op as usize].item);
+                methods.push(MethodInst {
+                    item: split.method,
+                    name: name.clone(),
+                    task: choice,
+                    subtasks: vec![(None, op)],
+                    orders: Vec::new(),
+                    pre: Vec::new(),
+                });
+            }
+        }
+        ops.push(Op {
+            item: item.unwrap_or(split.method),
+            name,
+            args: Vec::new(),
+            is_abstract: true,
+            instant: false,
+            duration: None,
+            conds: Vec::new(),
+            effs: Vec::new(),
+            conflicts: Vec::new(),
+            agents: Vec::new(),
+            allowed: false,
+            methods: Vec::new(),
+            dead: false,
+            choice: true,
+            num_conds: Vec::new(),
+            num_effs: Vec::new(),
+            num_duration: None,
+        });
     }
     for (i, m) in methods.iter().enumerate() {
         ops[m.task as usize].methods.push(i as u32);

@@ -126,6 +126,22 @@ impl Schema<'_> {
 /// A method and the parameters' values of its instances.
 pub type MethodBindings<'db> = (Item<'db>, Vec<Box<[ObjId]>>);
 
+/// The value of a method parameter that only a split subtask names, in the
+/// method's instances ([`Ground::tdg_splits`]): the subtask's instance is
+/// chosen apart.
+pub const UNBOUND: ObjId = ObjId::MAX;
+
+/// A subtask split off its method: the method, the subtask's index in it,
+/// its arguments as the method's instances name them, and the arguments of
+/// the ground instances it may be.
+#[derive(Debug, Clone, PartialEq, Eq, salsa::SalsaValue)]
+pub struct SplitChoice<'db> {
+    pub method: Item<'db>,
+    pub subtask: usize,
+    pub args: Box<[ObjId]>,
+    pub choices: Vec<Box<[ObjId]>>,
+}
+
 /// The ground problem.
 #[derive(Debug, Clone, PartialEq, Default, salsa::SalsaValue)]
 pub struct Ground<'db> {
@@ -167,6 +183,11 @@ pub struct Ground<'db> {
     /// With [`Ground::tdg_methods`]: per task of the `:htn`, the arguments
     /// of its ground instances that can be decomposed.
     pub htn_choices: Option<Vec<Vec<Box<[ObjId]>>>>,
+    /// With [`Ground::tdg_methods`]: the subtasks split off their methods
+    /// ([`super::tdg::split`]). A method instance names such a subtask with
+    /// its own parameters [`UNBOUND`]; the search chooses among
+    /// the ground instances given here.
+    pub tdg_splits: Vec<SplitChoice<'db>>,
     /// Top-down grounding stopped at a limit: the method with the most
     /// instances found then, and how many (none found: an empty name and 0).
     pub tdg_dominant: Option<(Str, usize)>,
@@ -548,6 +569,16 @@ fn ground_with_mode<'db>(
         reached = Some(out.reached.clone());
         g.tdg_methods = Some(out.methods.clone());
         g.htn_choices = Some(out.htn_choices.clone());
+        g.tdg_splits = out
+            .splits
+            .iter()
+            .map(|x| SplitChoice {
+                method: methods[x.method].0,
+                subtask: x.subtask,
+                args: x.args.clone(),
+                choices: x.choices.clone(),
+            })
+            .collect();
         g.tdg_dominant = out.truncated.then(|| out.dominant.clone().unwrap_or_default());
     }
 
@@ -1439,7 +1470,22 @@ mod tests {
                     found.push(m.binding.iter().map(|&o| g.objects.name(o)).collect::<Vec<_>>().join(" "));
                 }
             });
-            assert_eq!(found, ["truck p0 p1 p2 p3 p4"]);
+            // `?a` is the first hop's own: that hop is split off the
+            // method, a choice among its instances from p1's predecessors.
+            assert_eq!(found, ["truck ? p1 p2 p3 p4"]);
+            let splits: Vec<(usize, String, usize)> = g
+                .tdg_splits
+                .iter()
+                .map(|s| {
+                    let args = s.args.iter().map(|&o| g.objects.name(o)).collect::<Vec<_>>().join(" ");
+                    (s.subtask, args, s.choices.len())
+                })
+                .collect();
+            assert_eq!(splits, [(0, "truck ? p1".to_string(), 1)]);
+            assert_eq!(
+                g.tdg_splits[0].choices[0].iter().map(|&o| g.objects.name(o)).collect::<Vec<_>>(),
+                ["truck", "p0", "p1"]
+            );
             assert_eq!(g.htn_choices.as_deref().map(<[_]>::len), Some(1));
             // The lints' grounding is every reachable instance, as before.
             let all = ground(db, unit);

@@ -35,6 +35,7 @@
 
 use rustc_hash::FxHashMap;
 
+use super::ground::UNBOUND;
 use super::instantiate::{Arg, CAtom, Compiler, OpInput, Preds, fixpoint, value};
 use super::lifted::{Conditions, LAtom, LTerm, MethodSchema, Operator, OperatorKind, Param};
 use super::state::{AtomId, Atoms, Interner, ObjId, Objects};
@@ -84,6 +85,11 @@ pub(crate) struct Output<'db> {
     /// Per task of the network, the arguments of its ground instances that
     /// can be decomposed (one for a task without parameters, if any).
     pub htn_choices: Vec<Vec<Box<[ObjId]>>>,
+    /// The subtasks split off their methods ([`split`]): per method (index
+    /// in `Input::methods`), subtask (index in the method) and arguments of
+    /// the subtask as the method's instances name them (its own variables
+    /// [`UNBOUND`]), the ground instances of the subtask that can be chosen.
+    pub splits: Vec<Split>,
     /// A limit was reached: the model is incomplete.
     pub truncated: bool,
     /// Then the method with the most instances found, and how many (none
@@ -91,6 +97,79 @@ pub(crate) struct Output<'db> {
     pub dominant: Option<(Str, usize)>,
     /// Parameter values tried.
     pub tried: u64,
+}
+
+/// A subtask split off its method, with the ground instances it may be.
+pub(crate) struct Split {
+    pub method: usize,
+    pub subtask: usize,
+    pub args: Box<[ObjId]>,
+    pub choices: Vec<Box<[ObjId]>>,
+}
+
+/// The subtasks of a method grounded apart from it (method splitting,
+/// Behnke et al. 2020), and the parameters its instances bind.
+///
+/// A method's parameter that is not an argument of its task, appears in no
+/// precondition or constraint and is named by one subtask only is that
+/// subtask's own: its value changes nothing else in the method. A subtask
+/// with such parameters is split off when another subtask also has
+/// parameters the task does not bind, or the task has arguments the
+/// subtask does not name: the method's instances would otherwise be the
+/// product of the subtasks' instances (Woodworking's `method16` colours any
+/// part with any machine, whatever the part it grinds, and had millions),
+/// or of the task's instances and the subtask's (`method0` varnishes with
+/// any varnisher, whatever the machine its task names). The method's
+/// instances then bind the other parameters only, and each split subtask is
+/// a choice among its ground instances that agree with them.
+pub(crate) fn split(m: &MethodSchema) -> (Vec<bool>, Vec<u32>) {
+    let n = m.params.len() as u32;
+    let mut split = vec![false; m.subtasks.len()];
+    let all: Vec<u32> = (0..n).collect();
+    if !m.unsupported.is_empty() || !m.pre.numeric.is_empty() {
+        return (split, all);
+    }
+    let mut bound = Vec::new();
+    if let Some((_, head, _)) = &m.task {
+        vars(head, &mut bound);
+    }
+    for a in m.pre.pos.iter().chain(&m.pre.neg) {
+        vars(&a.args, &mut bound);
+    }
+    for (x, y) in m.pre.eq.iter().chain(&m.pre.neq) {
+        vars(std::slice::from_ref(x), &mut bound);
+        vars(std::slice::from_ref(y), &mut bound);
+    }
+    let subtask_vars: Vec<Vec<u32>> = m
+        .subtasks
+        .iter()
+        .map(|s| {
+            let mut v = Vec::new();
+            vars(&s.args, &mut v);
+            v
+        })
+        .collect();
+    let own = |q: u32, i: usize| {
+        !bound.contains(&q) && subtask_vars.iter().enumerate().all(|(j, v)| j == i || !v.contains(&q))
+    };
+    let has_own: Vec<bool> =
+        subtask_vars.iter().enumerate().map(|(i, v)| v.iter().any(|&q| own(q, i))).collect();
+    let unbound_by_task: Vec<bool> =
+        subtask_vars.iter().map(|v| v.iter().any(|q| !bound.contains(q))).collect();
+    let mut head = Vec::new();
+    if let Some((_, args, _)) = &m.task {
+        vars(args, &mut head);
+    }
+    for i in 0..m.subtasks.len() {
+        split[i] = has_own[i]
+            && ((0..m.subtasks.len()).any(|j| j != i && unbound_by_task[j])
+                || head.iter().any(|q| !subtask_vars[i].contains(q)));
+    }
+    let core = all
+        .into_iter()
+        .filter(|&q| !(0..m.subtasks.len()).any(|i| split[i] && subtask_vars[i].contains(&q) && own(q, i)))
+        .collect();
+    (split, core)
 }
 
 /// What a rule of the fixpoint derives.
@@ -103,6 +182,10 @@ enum Rule {
     Method(usize),
     /// A ground instance of the network's task (its index) that can be decomposed.
     Root(usize),
+    /// A projection: a fact over some of another fact's arguments.
+    Aux,
+    /// A ground instance of a split subtask (index in `splits`).
+    Part(usize),
 }
 
 fn vars(terms: &[LTerm], out: &mut Vec<u32>) {
@@ -218,6 +301,12 @@ pub(crate) fn ground<'db>(input: &Input<'_, 'db>) -> Option<Output<'db>> {
         let pre = restrict(&op.pre, &all, &mut pos);
         rule(&mut cx, Rule::Task(t), op.params.clone(), pre, latom(&tok(&op.name), args));
     }
+    // Projections of a task's requests onto some of its arguments, by task
+    // and arguments kept.
+    let mut projections: FxHashMap<(String, Vec<bool>), String> = FxHashMap::default();
+    // The split subtasks: (method, subtask, its arguments over `vars`, the
+    // method's parameters it names).
+    let mut splits: Vec<(usize, usize, Vec<LTerm>, Vec<u32>)> = Vec::new();
     for (k, (_, m)) in input.methods.iter().enumerate() {
         let Some((task, head, _)) = &m.task else { continue };
         let mut head_vars = Vec::new();
@@ -229,25 +318,88 @@ pub(crate) fn ground<'db>(input: &Input<'_, 'db>) -> Option<Output<'db>> {
             }
             let mut keep = head_vars.clone();
             vars(&s.args, &mut keep);
-            keep.sort_unstable();
-            let mut pos = vec![latom(&req(task), remap(head, &keep))];
+            // The parameters the rule needs: the subtask's, and those of the
+            // conditions over `keep` (the task's other arguments only
+            // multiply the rule's instances: the request is the same).
+            let mut used = Vec::new();
+            vars(&s.args, &mut used);
+            let mut body: Vec<LAtom> = Vec::new();
             for (j, t) in m.subtasks.iter().enumerate() {
                 if j != i && !is_task(by_name[t.name.as_str()]) && within(&t.args, &keep) {
-                    pos.push(latom(&ok(&t.name), remap(&t.args, &keep)));
+                    body.push(latom(&ok(&t.name), t.args.clone()));
                 }
             }
-            let pre = restrict(&m.pre, &keep, &mut pos);
-            let params = keep.iter().map(|&q| m.params[q as usize].clone()).collect();
-            rule(&mut cx, Rule::Request, params, pre, latom(&req(&s.name), remap(&s.args, &keep)));
+            for a in body.iter().chain(&m.pre.pos).chain(&m.pre.neg) {
+                if within(&a.args, &keep) {
+                    vars(&a.args, &mut used);
+                }
+            }
+            for (x, y) in m.pre.eq.iter().chain(&m.pre.neq) {
+                let pair = [x.clone(), y.clone()];
+                if within(&pair, &keep) {
+                    vars(&pair, &mut used);
+                }
+            }
+            used.sort_unstable();
+            let mask: Vec<bool> =
+                head.iter().map(|t| !matches!(t, LTerm::Param(q) if !used.contains(q))).collect();
+            let req_atom = if mask.iter().all(|&b| b) {
+                latom(&req(task), remap(head, &used))
+            } else {
+                let n = projections.len();
+                let name = projections
+                    .entry((task.to_string(), mask.clone()))
+                    .or_insert_with(|| {
+                        let op = input.ops[by_name[task.as_str()]].1;
+                        let all: Vec<LTerm> = (0..op.params.len() as u32).map(LTerm::Param).collect();
+                        let kept: Vec<LTerm> =
+                            all.iter().zip(&mask).filter(|(_, b)| **b).map(|(t, _)| t.clone()).collect();
+                        let name = format!("req {n} {task}");
+                        let pre = restrict(&Conditions::default(), &[], &mut vec![latom(&req(task), all)]);
+                        rule(&mut cx, Rule::Aux, op.params.clone(), pre, latom(&name, kept));
+                        name
+                    })
+                    .clone();
+                let kept: Vec<LTerm> =
+                    head.iter().zip(&mask).filter(|(_, b)| **b).map(|(t, _)| t.clone()).collect();
+                latom(&name, remap(&kept, &used))
+            };
+            let mut pos = vec![req_atom];
+            pos.extend(body.iter().map(|a| latom(&a.pred, remap(&a.args, &used))));
+            let pre = restrict(&m.pre, &used, &mut pos);
+            let params = used.iter().map(|&q| m.params[q as usize].clone()).collect();
+            rule(&mut cx, Rule::Request, params, pre, latom(&req(&s.name), remap(&s.args, &used)));
         }
-        // Its instances.
-        let all: Vec<u32> = (0..m.params.len() as u32).collect();
-        let mut pos = vec![latom(&tok(task), head.clone())];
-        for s in &m.subtasks {
-            pos.push(latom(&ok(&s.name), s.args.clone()));
+        // Its instances, over the parameters the split subtasks leave.
+        let (split_mask, core) = split(m);
+        let mut pos = vec![latom(&tok(task), remap(head, &core))];
+        for (i, s) in m.subtasks.iter().enumerate() {
+            if !split_mask[i] {
+                pos.push(latom(&ok(&s.name), remap(&s.args, &core)));
+                continue;
+            }
+            // A split subtask: its instances (over the method's types), and
+            // the method's condition that one agrees with the others.
+            let mut own = Vec::new();
+            vars(&s.args, &mut own);
+            own.sort_unstable();
+            let shared: Vec<LTerm> = s
+                .args
+                .iter()
+                .filter(|t| !matches!(t, LTerm::Param(q) if !core.contains(q)))
+                .cloned()
+                .collect();
+            let name = format!("part {k} {i}");
+            let params = own.iter().map(|&q| m.params[q as usize].clone()).collect();
+            let pre =
+                restrict(&Conditions::default(), &[], &mut vec![latom(&ok(&s.name), remap(&s.args, &own))]);
+            rule(&mut cx, Rule::Part(splits.len()), params, pre, latom(&name, remap(&shared, &own)));
+            splits.push((k, i, remap(&s.args, &own), own));
+            pos.push(latom(&name, remap(&shared, &core)));
         }
-        let pre = restrict(&m.pre, &all, &mut pos);
-        rule(&mut cx, Rule::Method(k), m.params.clone(), pre, latom(&ok(task), head.clone()));
+        let pre = restrict(&m.pre, &core, &mut pos);
+        let params = core.iter().map(|&q| m.params[q as usize].clone()).collect();
+        rule(&mut cx, Rule::Method(k), params, pre, latom(&ok(task), remap(head, &core)));
     }
     // The initial network: its tasks are requested, and each of their
     // instances that can be decomposed is a choice for the network's
@@ -301,6 +453,18 @@ pub(crate) fn ground<'db>(input: &Input<'_, 'db>) -> Option<Output<'db>> {
         })
         .collect::<Option<Vec<_>>>()?;
 
+    // A split subtask's instances, and which of their arguments the
+    // method's instances leave `UNBOUND`.
+    let split_terms: Vec<(usize, Vec<Arg>, Vec<bool>)> = splits
+        .iter()
+        .map(|(k, i, args, _)| {
+            let m = input.methods[*k].1;
+            let (_, core) = split(m);
+            let s = &m.subtasks[*i];
+            let masked = s.args.iter().map(|t| matches!(t, LTerm::Param(q) if !core.contains(q))).collect();
+            Some((by_name[s.name.as_str()], compile(&cx, args)?, masked))
+        })
+        .collect::<Option<Vec<_>>>()?;
     // The facts: the reachable atoms, and each reachable action instance `ok`.
     let mut start: Vec<AtomId> =
         (0..input.reached.len() as AtomId).filter(|&a| input.reached[a as usize]).collect();
@@ -333,18 +497,87 @@ pub(crate) fn ground<'db>(input: &Input<'_, 'db>) -> Option<Output<'db>> {
     let mut methods: Vec<MethodInst> = Vec::new();
     // The network's choices: (its task, the ground task).
     let mut roots: Vec<(usize, u32)> = Vec::new();
+    // Per split subtask, its ground instances by the arguments the method
+    // names (its own parameters `UNBOUND`).
+    let mut parts: Vec<FxHashMap<Box<[ObjId]>, Vec<u32>>> = vec![FxHashMap::default(); splits.len()];
+    // Task instances become nodes when a method refines them.
+    for k in 0..fix.instances.len() {
+        let (r, binding) = fix.instances.get(k);
+        if let Rule::Task(t) = rules[r].0 {
+            graph.node(t, binding);
+        }
+    }
+    for k in 0..fix.instances.len() {
+        let (r, binding) = fix.instances.get(k);
+        if let Rule::Part(x) = rules[r].0 {
+            let (op, ts, masked) = &split_terms[x];
+            let args: Vec<ObjId> = ts.iter().map(|a| value(*a, binding)).collect();
+            if let Some(node) = graph.find(*op, &args) {
+                let key: Box<[ObjId]> =
+                    args.iter().zip(masked).map(|(&o, &m)| if m { UNBOUND } else { o }).collect();
+                parts[x].entry(key).or_default().push(node);
+            }
+        }
+    }
+    // Per method, its split subtasks (index in `splits`) and the
+    // parameters its instances bind.
+    let mut method_splits: Vec<(Vec<Option<usize>>, Vec<u32>)> =
+        input.methods.iter().map(|(_, m)| (vec![None; m.subtasks.len()], split(m).1)).collect();
+    for (x, (k, i, _, _)) in splits.iter().enumerate() {
+        method_splits[*k].0[*i] = Some(x);
+    }
+    // The choice nodes made so far.
+    let mut choices: FxHashMap<(usize, Box<[ObjId]>), u32> = FxHashMap::default();
+    let mut full: Vec<ObjId> = Vec::new();
     for k in 0..fix.instances.len() {
         let (r, binding) = fix.instances.get(k);
         match rules[r].0 {
             Rule::Method(m) => {
                 let (task, head, subs, pre) = &method_terms[m];
+                let (split_of, core) = &method_splits[m];
+                full.clear();
+                full.resize(input.methods[m].1.params.len(), UNBOUND);
+                for (&q, &o) in core.iter().zip(binding) {
+                    full[q as usize] = o;
+                }
+                let binding = &full[..];
                 let eval = |ts: &[Arg]| ts.iter().map(|a| value(*a, binding)).collect::<Vec<ObjId>>();
                 let Some(task) = graph.find(*task, &eval(head)) else { continue };
-                let Some(subs) =
-                    subs.iter().map(|(op, ts)| graph.find(*op, &eval(ts))).collect::<Option<Vec<u32>>>()
-                else {
+                let mut sub_nodes = Vec::with_capacity(subs.len());
+                for ((op, ts), split_of) in subs.iter().zip(split_of) {
+                    let args = eval(ts);
+                    match split_of {
+                        None => match graph.find(*op, &args) {
+                            Some(node) => sub_nodes.push(node),
+                            None => break,
+                        },
+                        Some(x) => {
+                            let Some(found) = parts[*x].get(&args[..]) else { break };
+                            let key = (*x, Box::<[ObjId]>::from(&args[..]));
+                            let node = match choices.get(&key) {
+                                Some(&node) => node,
+                                None => {
+                                    let node = graph.node(input.ops.len() + *x, &args);
+                                    for &c in found {
+                                        methods.push(MethodInst {
+                                            method: usize::MAX,
+                                            binding: Box::default(),
+                                            task: node,
+                                            subs: vec![c],
+                                            pre: Vec::new(),
+                                        });
+                                    }
+                                    choices.insert(key, node);
+                                    node
+                                }
+                            };
+                            sub_nodes.push(node);
+                        }
+                    }
+                }
+                if sub_nodes.len() < subs.len() {
                     continue;
-                };
+                }
                 let mut pre_atoms = Vec::new();
                 let mut dead = false;
                 for c in pre {
@@ -359,7 +592,7 @@ pub(crate) fn ground<'db>(input: &Input<'_, 'db>) -> Option<Output<'db>> {
                         method: m,
                         binding: binding.into(),
                         task,
-                        subs,
+                        subs: sub_nodes,
                         pre: pre_atoms,
                     });
                 }
@@ -371,11 +604,7 @@ pub(crate) fn ground<'db>(input: &Input<'_, 'db>) -> Option<Output<'db>> {
                     roots.push((i, node));
                 }
             }
-            // Task instances become nodes when a method refines them.
-            Rule::Task(t) => {
-                graph.node(t, binding);
-            }
-            Rule::Request => {}
+            Rule::Task(_) | Rule::Request | Rule::Aux | Rule::Part(_) => {}
         }
     }
     let truncated = fix.truncated;
@@ -397,14 +626,31 @@ pub(crate) fn ground<'db>(input: &Input<'_, 'db>) -> Option<Output<'db>> {
 
     let pruned = prune(input, &graph, &methods, &roots, &mut key);
     let mut per_op: Vec<Vec<Box<[ObjId]>>> = vec![Vec::new(); input.ops.len()];
+    let mut split_at: FxHashMap<u32, usize> = FxHashMap::default();
+    let mut split_out: Vec<Split> = Vec::new();
     for (n, (op, args)) in graph.nodes.iter().enumerate() {
-        if pruned.nodes[n] {
-            per_op[*op].push(args.clone());
+        if !pruned.nodes[n] {
+            continue;
+        }
+        match op.checked_sub(input.ops.len()) {
+            None => per_op[*op].push(args.clone()),
+            Some(x) => {
+                split_at.insert(n as u32, split_out.len());
+                let (method, subtask, _, _) = splits[x];
+                split_out.push(Split { method, subtask, args: args.clone(), choices: Vec::new() });
+            }
         }
     }
     let mut by_method: Vec<Vec<Box<[ObjId]>>> = vec![Vec::new(); input.methods.len()];
     for (m, inst) in methods.into_iter().enumerate() {
-        if pruned.methods[m] {
+        if !pruned.methods[m] {
+            continue;
+        }
+        if inst.method == usize::MAX {
+            if let Some(&s) = split_at.get(&inst.task) {
+                split_out[s].choices.push(graph.nodes[inst.subs[0] as usize].1.clone());
+            }
+        } else {
             by_method[inst.method].push(inst.binding);
         }
     }
@@ -430,7 +676,16 @@ pub(crate) fn ground<'db>(input: &Input<'_, 'db>) -> Option<Output<'db>> {
             htn_choices[i].push(args);
         }
     }
-    Some(Output { per_op, reached: pruned.reached, methods, htn_choices, truncated, dominant, tried })
+    Some(Output {
+        per_op,
+        reached: pruned.reached,
+        methods,
+        htn_choices,
+        splits: split_out,
+        truncated,
+        dominant,
+        tried,
+    })
 }
 
 struct MethodInst {
@@ -483,7 +738,12 @@ fn prune(
     key: &mut Vec<u32>,
 ) -> Pruned {
     let n = graph.nodes.len();
-    let is_task = |node: u32| input.ops[graph.nodes[node as usize].0].1.kind == OperatorKind::Task;
+    // Split subtasks' choices are tasks without conditions or effects.
+    let n_ops = input.ops.len();
+    let is_task = |node: u32| {
+        let op = graph.nodes[node as usize].0;
+        op >= n_ops || input.ops[op].1.kind == OperatorKind::Task
+    };
     let mut by_task: Vec<Vec<u32>> = vec![Vec::new(); n];
     for (m, inst) in methods.iter().enumerate() {
         by_task[inst.task as usize].push(m as u32);
@@ -492,7 +752,7 @@ fn prune(
     let atoms_of = |node: usize, lists: &[&[CAtom]], key: &mut Vec<u32>| -> Option<Vec<AtomId>> {
         let (op, args) = &graph.nodes[node];
         let mut out = Vec::new();
-        for c in lists[*op] {
+        for c in lists.get(*op).copied().unwrap_or_default() {
             c.key(args, key);
             out.push(input.atoms.get(key)?);
         }
@@ -503,7 +763,11 @@ fn prune(
     let add: Vec<Vec<AtomId>> = (0..n)
         .map(|i| {
             let (op, args) = &graph.nodes[i];
-            input.add[*op]
+            input
+                .add
+                .get(*op)
+                .copied()
+                .unwrap_or_default()
                 .iter()
                 .filter_map(|c| {
                     c.key(args, key);

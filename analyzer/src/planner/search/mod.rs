@@ -4,7 +4,8 @@
 //! - Plan selection (here): `f = g + h`, `g` the makespan of the plan's
 //!   earliest schedule (or the busiest agent's work, when larger) plus what
 //!   its threats must cost and a step cost, `h` the estimates of its open
-//!   links and abstract flaws ([`cost`]); ties broken on the remaining
+//!   links and abstract flaws ([`cost`]), weighted by 2 on purely
+//!   hierarchical problems ([`HTN_WEIGHT`]); ties broken on the remaining
 //!   effort, the smaller plan, then last in, first out. A second open list
 //!   ranks the same plans by size (steps plus the estimate in actions,
 //!   VHPOP's `ADDR`), and the two are expanded in turn ([`Open`]). A plan
@@ -42,6 +43,9 @@ use super::{Config, LimitKind, Motion, PlannerLimits, Progress, Quality, Stats};
 /// such plans (`tests/planner/props/step-cost.pddl`). Small, so that the
 /// makespan decides: measured neutral on the benchmarks' makespans.
 const STEP_COST: f64 = 0.02;
+
+/// The weight of `h` on purely hierarchical problems ([`Search::weight`]).
+const HTN_WEIGHT: f64 = 2.0;
 
 /// Expansions (greedy completions included) by the makespan's open list
 /// alone before the one ranked by plan size takes turns with it: a problem
@@ -247,6 +251,14 @@ impl<'a, 'db> Search<'a, 'db> {
         Some((span.max(busiest) + penalty + STEP_COST * total, h, effort, span))
     }
 
+    /// The weight of `h` in `f`: 2 (weighted A*) on a purely hierarchical
+    /// problem, grounded top-down, where the decomposition's estimate
+    /// tells refinements apart that the makespan so far does not; 1 (A*)
+    /// otherwise.
+    fn weight(&self) -> f64 {
+        if self.task.g.tdg_methods.is_some() { HTN_WEIGHT } else { 1.0 }
+    }
+
     /// A plan's rank in the lane of plan size: its steps plus the estimate
     /// of its flaws in actions (VHPOP's `ADDR` with unit action costs).
     fn size_rank(&self, plan: &Plan, effort: f64) -> f64 {
@@ -278,7 +290,9 @@ impl<'a, 'db> Search<'a, 'db> {
         for mut c in children {
             let added = if linking { c.steps.len() - p.steps.len() } else { 0 };
             match self.score(&mut c) {
-                Some((g, h, effort, span)) => out.push(Scored { f: g + h, span, effort, added, plan: c }),
+                Some((g, h, effort, span)) => {
+                    out.push(Scored { f: g + self.weight() * h, span, effort, added, plan: c })
+                }
                 None => dead(&c),
             }
         }
@@ -385,8 +399,9 @@ impl<'a, 'db> Search<'a, 'db> {
                     id += 1;
                     stats.generated += 1;
                     let size = root.steps.len();
-                    let keys = [(g + h, effort), (self.size_rank(&root, effort), effort)];
-                    let entry = Entry { f: g + h, span, probed: false, plan: Some(root).into() };
+                    let f = g + self.weight() * h;
+                    let keys = [(f, effort), (self.size_rank(&root, effort), effort)];
+                    let entry = Entry { f, span, probed: false, plan: Some(root).into() };
                     heap.push(entry, keys, size, id);
                 }
                 None => keep_best(&root, best, &mut best_effort),
