@@ -53,7 +53,7 @@ pub(crate) fn for_each_binding<'m>(
     // An odometer: `at[k]` is the object of variable `k`, all of them pushed.
     let mut at = vec![0usize; vars.len()];
     for (v, d) in vars.iter().zip(&domains) {
-        b.push(&v.name.key, d[0]);
+        b.push(v.name.key(), d[0]);
     }
     let pop_all = |b: &mut Binding<'m>| (0..vars.len()).for_each(|_| b.pop());
     loop {
@@ -72,10 +72,10 @@ pub(crate) fn for_each_binding<'m>(
         };
         (k..vars.len()).for_each(|_| b.pop());
         at[k] += 1;
-        b.push(&vars[k].name.key, domains[k][at[k]]);
+        b.push(vars[k].name.key(), domains[k][at[k]]);
         for j in k + 1..vars.len() {
             at[j] = 0;
-            b.push(&vars[j].name.key, domains[j][0]);
+            b.push(vars[j].name.key(), domains[j][0]);
         }
     }
 }
@@ -245,8 +245,8 @@ impl<'m> Eval<'_, '_, '_> {
             let values: Vec<String> = vars
                 .iter()
                 .map(|v| {
-                    let o = b.get(&v.name.key).map_or("?", |o| self.world.objects.name(o));
-                    format!("{} = {o}", v.name.text)
+                    let o = b.get(v.name.key()).map_or("?", |o| self.world.objects.name(o));
+                    format!("{} = {o}", v.name.text())
                 })
                 .collect();
             found = why

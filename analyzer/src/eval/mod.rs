@@ -144,26 +144,26 @@ pub(crate) struct Eval<'e, 'w, 'db> {
 impl<'m> Eval<'_, '_, '_> {
     pub fn term(&self, t: &Term, b: &Binding<'m>) -> Res<ObjId> {
         match t {
-            Term::Var(n) => b.get(&n.key).ok_or_else(|| {
-                EvalError::new(ErrorKind::Unresolved, n.span, format!("`{}` is not bound", n.text))
+            Term::Var(n) => b.get(n.key()).ok_or_else(|| {
+                EvalError::new(ErrorKind::Unresolved, n.span, format!("`{}` is not bound", n.text()))
             }),
-            Term::Const(n) => self.world.objects.id(&n.key).ok_or_else(|| {
-                EvalError::new(ErrorKind::Unresolved, n.span, format!("`{}` is not an object", n.text))
+            Term::Const(n) => self.world.objects.id(n.key()).ok_or_else(|| {
+                EvalError::new(ErrorKind::Unresolved, n.span, format!("`{}` is not an object", n.text()))
             }),
             Term::Func(f) => Err(EvalError::new(
                 ErrorKind::Unsupported,
                 f.span,
-                format!("object fluents (`({} …)` as a term) are not supported", f.func.text),
+                format!("object fluents (`({} …)` as a term) are not supported", f.func.text()),
             )),
         }
     }
 
     fn key(&self, names: &Interner, what: &str, name: &Name, args: &[Term], b: &Binding<'m>) -> Res<Key> {
-        let id = names.get(&name.key).ok_or_else(|| {
+        let id = names.get(name.key()).ok_or_else(|| {
             EvalError::new(
                 ErrorKind::Unresolved,
                 name.span,
-                format!("`{}` is not a declared {what}", name.text),
+                format!("`{}` is not a declared {what}", name.text()),
             )
         })?;
         let mut key = Key::with_capacity(args.len() + 1);

@@ -136,7 +136,7 @@ impl<'m> Eval<'_, '_, '_> {
             NumExpr::Var(n) => Err(EvalError::new(
                 ErrorKind::Unsupported,
                 n.span,
-                format!("`{}` is an object, not a number", n.text),
+                format!("`{}` is an object, not a number", n.text()),
             )),
         }
     }

@@ -21,12 +21,12 @@ impl<'m> Eval<'_, '_, '_> {
 
     fn write_term(&self, t: &Term, b: &Binding<'m>, s: &mut String) {
         match t {
-            Term::Var(n) => match b.get(&n.key) {
+            Term::Var(n) => match b.get(n.key()) {
                 Some(o) => s.push_str(self.world.objects.name(o)),
-                None => s.push_str(&n.text),
+                None => s.push_str(n.text()),
             },
-            Term::Const(n) => s.push_str(&n.key),
-            Term::Func(f) => self.write_app(&f.func.key, &f.args, b, s),
+            Term::Const(n) => s.push_str(n.key()),
+            Term::Func(f) => self.write_app(f.func.key(), &f.args, b, s),
         }
     }
 
@@ -43,7 +43,7 @@ impl<'m> Eval<'_, '_, '_> {
     fn write_expr(&self, e: &NumExpr, b: &Binding<'m>, s: &mut String) {
         match e {
             NumExpr::Number(n) => s.push_str(&n.text),
-            NumExpr::Fluent(f) => self.write_app(&f.func.key, &f.args, b, s),
+            NumExpr::Fluent(f) => self.write_app(f.func.key(), &f.args, b, s),
             NumExpr::Op(op, args, _) => {
                 s.push('(');
                 s.push_str(op);
@@ -56,11 +56,11 @@ impl<'m> Eval<'_, '_, '_> {
             NumExpr::Duration(_) => s.push_str("?duration"),
             NumExpr::TaskDuration(id, _) => {
                 s.push_str("(duration ");
-                s.push_str(&id.text);
+                s.push_str(id.text());
                 s.push(')');
             }
             NumExpr::Special(x, _) => s.push_str(x),
-            NumExpr::Var(n) => s.push_str(&n.text),
+            NumExpr::Var(n) => s.push_str(n.text()),
         }
     }
 
@@ -75,7 +75,7 @@ impl<'m> Eval<'_, '_, '_> {
             s.push(')');
         };
         match g {
-            Gd::Atom(a) => self.write_app(&a.pred.key, &a.args, b, s),
+            Gd::Atom(a) => self.write_app(a.pred.key(), &a.args, b, s),
             Gd::Equal(x, y, _) => {
                 s.push_str("(= ");
                 self.write_term(x, b, s);
@@ -112,7 +112,7 @@ impl<'m> Eval<'_, '_, '_> {
                     if i > 0 {
                         s.push(' ');
                     }
-                    s.push_str(&v.name.text);
+                    s.push_str(v.name.text());
                     let types = type_set(&v.ty);
                     if types.as_slice() != ["object"] {
                         s.push_str(" - ");

@@ -142,13 +142,13 @@ fn a_fluent_without_value_is_an_error_not_false() {
 }
 
 fn find<'m>(actions: &[&'m Action], name: &str) -> &'m Action {
-    actions.iter().find(|a| a.name.key == name).expect("the action")
+    actions.iter().find(|a| a.name.key() == name).expect("the action")
 }
 
 fn bind<'m>(a: &'m Action, world: &World<'_, '_>, args: &[&str]) -> Binding<'m> {
     let mut b = Binding::default();
     for (p, o) in a.params.iter().zip(args) {
-        b.push(&p.name.key, world.objects.id(o).expect("an object"));
+        b.push(p.name.key(), world.objects.id(o).expect("an object"));
     }
     b
 }

@@ -53,7 +53,7 @@ pub fn code_actions(db: &dyn Db, file: SourceFile, range: TextRange) -> Vec<Code
             occurrences(data, |o| {
                 let at = o.name.span + item.offset(db);
                 if o.kind == RefKind::Predicate && !o.decl && at.intersect(range).is_some() {
-                    uses.push((o.name.key.to_string(), o.name.text.to_string(), at));
+                    uses.push((o.name.key().to_string(), o.name.text().to_string(), at));
                 }
             });
             for (key, text, at) in uses {
@@ -116,13 +116,13 @@ fn parameters(data: &ItemData, args: &[String]) -> String {
             out.push(format!("?x{}", i + 1));
             continue;
         }
-        let ty = declared.iter().find(|p| p.name.key.eq_ignore_ascii_case(arg)).map(|p| &p.ty);
+        let ty = declared.iter().find(|p| p.name.key().eq_ignore_ascii_case(arg)).map(|p| &p.ty);
         out.push(match ty {
-            Some(TypeRef::Named(t)) => format!("{arg} - {}", t.text),
+            Some(TypeRef::Named(t)) => format!("{arg} - {}", t.text()),
             Some(TypeRef::Either(ts)) => {
                 format!(
                     "{arg} - (either {})",
-                    ts.iter().map(|t| t.text.to_string()).collect::<Vec<_>>().join(" ")
+                    ts.iter().map(|t| t.text().to_string()).collect::<Vec<_>>().join(" ")
                 )
             }
             _ => arg.clone(),

@@ -117,15 +117,15 @@ pub fn semantic_tokens(db: &dyn Db, file: SourceFile) -> Vec<HighlightToken> {
             let offset = item.offset(db);
             let data = &lower_item(db, item).data;
             let params: FxHashSet<&str> = match data {
-                ItemData::Action(a) => a.params.iter().map(|p| &*p.name.key).collect(),
-                ItemData::Task(t) => t.params.iter().map(|p| &*p.name.key).collect(),
-                ItemData::Method(m) => m.params.iter().map(|p| &*p.name.key).collect(),
-                ItemData::Htn(h) => h.params.iter().map(|p| &*p.name.key).collect(),
+                ItemData::Action(a) => a.params.iter().map(|p| p.name.key()).collect(),
+                ItemData::Task(t) => t.params.iter().map(|p| p.name.key()).collect(),
+                ItemData::Method(m) => m.params.iter().map(|p| p.name.key()).collect(),
+                ItemData::Htn(h) => h.params.iter().map(|p| p.name.key()).collect(),
                 _ => FxHashSet::default(),
             };
             let declares_signatures = matches!(item.section(db), Section::Predicates | Section::Functions);
             occurrences(data, |o| {
-                let key = &*o.name.key;
+                let key = o.name.key();
                 let kind = match o.kind {
                     RefKind::Type => HighlightKind::Type,
                     RefKind::Predicate => HighlightKind::Predicate,

@@ -108,26 +108,26 @@ pub fn document_symbols(db: &dyn Db, file: SourceFile) -> Vec<DocumentSymbol> {
                 children: kids,
             };
             match &lower_item(db, item).data {
-                ItemData::Header(n) => unit_name = (n.text.to_string(), n.span + off),
+                ItemData::Header(n) => unit_name = (n.text().to_string(), n.span + off),
                 ItemData::Types(ts) => children.push(section(
                     ":types",
-                    ts.iter().map(|t| leaf(&t.name.text, SymbolKind::Type, t.name.span)).collect(),
+                    ts.iter().map(|t| leaf(t.name.text(), SymbolKind::Type, t.name.span)).collect(),
                 )),
                 ItemData::Constants(cs) => children.push(section(
                     ":constants",
-                    cs.iter().map(|t| leaf(&t.name.text, SymbolKind::Constant, t.name.span)).collect(),
+                    cs.iter().map(|t| leaf(t.name.text(), SymbolKind::Constant, t.name.span)).collect(),
                 )),
                 ItemData::Objects(cs) => children.push(section(
                     ":objects",
-                    cs.iter().map(|t| leaf(&t.name.text, SymbolKind::Object, t.name.span)).collect(),
+                    cs.iter().map(|t| leaf(t.name.text(), SymbolKind::Object, t.name.span)).collect(),
                 )),
                 ItemData::Predicates(ps) => children.push(section(
                     ":predicates",
-                    ps.iter().map(|p| leaf(&p.name.text, SymbolKind::Predicate, p.name.span)).collect(),
+                    ps.iter().map(|p| leaf(p.name.text(), SymbolKind::Predicate, p.name.span)).collect(),
                 )),
                 ItemData::Functions(ps) => children.push(section(
                     ":functions",
-                    ps.iter().map(|p| leaf(&p.name.text, SymbolKind::Function, p.name.span)).collect(),
+                    ps.iter().map(|p| leaf(p.name.text(), SymbolKind::Function, p.name.span)).collect(),
                 )),
                 ItemData::Action(a) => {
                     let detail = match a.kind {
@@ -136,14 +136,14 @@ pub fn document_symbols(db: &dyn Db, file: SourceFile) -> Vec<DocumentSymbol> {
                         ActionKind::Process => "process",
                         ActionKind::Event => "event",
                     };
-                    children.push(sym(&a.name.text, SymbolKind::Action, a.name.span, Some(detail.into())))
+                    children.push(sym(a.name.text(), SymbolKind::Action, a.name.span, Some(detail.into())))
                 }
                 ItemData::Task(t) => {
-                    children.push(sym(&t.name.text, SymbolKind::Task, t.name.span, Some("task".into())))
+                    children.push(sym(t.name.text(), SymbolKind::Task, t.name.span, Some("task".into())))
                 }
                 ItemData::Method(m) => {
-                    let detail = m.task.as_ref().map(|t| format!("method of {}", t.name.text));
-                    children.push(sym(&m.name.text, SymbolKind::Method, m.name.span, detail))
+                    let detail = m.task.as_ref().map(|t| format!("method of {}", t.name.text()));
+                    children.push(sym(m.name.text(), SymbolKind::Method, m.name.span, detail))
                 }
                 ItemData::Init(_) if !init_done => {
                     init_done = true;
@@ -312,7 +312,7 @@ pub fn occurrence_at(
     let mut found = None;
     occurrences(&lower_item(db, item).data, |o| {
         if found.is_none() && o.name.span.contains_inclusive(rel) {
-            found = Some((o.kind, o.name.key.to_string(), o.name.span + item.offset(db)));
+            found = Some((o.kind, o.name.key().to_string(), o.name.span + item.offset(db)));
         }
     });
     let (kind, key, range) = found?;
@@ -330,7 +330,7 @@ pub struct NavTarget {
 fn local_decl(db: &dyn Db, item: Item<'_>, kind: RefKind, key: &str) -> Option<TextRange> {
     let mut found = None;
     occurrences(&lower_item(db, item).data, |o| {
-        if found.is_none() && o.decl && o.kind == kind && &*o.name.key == key {
+        if found.is_none() && o.decl && o.kind == kind && o.name.key() == key {
             found = Some(o.name.span + item.offset(db));
         }
     });
@@ -404,7 +404,7 @@ pub fn references(
     let mut out = Vec::new();
     let mut scan = |i: Item<'_>| {
         occurrences(&lower_item(db, i).data, |o| {
-            if same_namespace(o.kind, kind) && *o.name.key == *key && (include_declaration || !o.decl) {
+            if same_namespace(o.kind, kind) && *o.name.key() == *key && (include_declaration || !o.decl) {
                 out.push(NavTarget { file: i.file(db), range: o.name.span + i.offset(db) });
             }
         });
@@ -565,7 +565,7 @@ pub fn hover(db: &dyn Db, file: SourceFile, offset: TextSize) -> Option<HoverRes
                 ItemData::Htn(h) => &h.params[..],
                 _ => &[],
             };
-            let ty = params.iter().find(|p| *p.name.key == *key).map(|p| type_text(&p.ty));
+            let ty = params.iter().find(|p| *p.name.key() == *key).map(|p| type_text(&p.ty));
             Some(match ty {
                 Some(t) => format!("parameter {key} - {t}"),
                 None => format!("variable {key}"),
@@ -624,9 +624,9 @@ fn family_notes(
 fn type_text(t: &TypeRef) -> String {
     match t {
         TypeRef::Implicit => "object".into(),
-        TypeRef::Named(n) => n.text.to_string(),
+        TypeRef::Named(n) => n.text().to_string(),
         TypeRef::Either(ns) => {
-            format!("(either {})", ns.iter().map(|n| &*n.text).collect::<Vec<_>>().join(" "))
+            format!("(either {})", ns.iter().map(|n| n.text()).collect::<Vec<_>>().join(" "))
         }
     }
 }

@@ -193,7 +193,7 @@ impl<'a, F: FnMut(Occurrence<'a>)> V<'a, F> {
                 for s in sigs {
                     self.put(kind, &s.name, true);
                     self.typed(&s.params, RefKind::Variable);
-                    if !matches!(&s.result, TypeRef::Named(n) if &*n.key == "number") {
+                    if !matches!(&s.result, TypeRef::Named(n) if n.key() == "number") {
                         self.type_ref(&s.result);
                     }
                 }

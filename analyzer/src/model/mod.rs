@@ -14,24 +14,70 @@ use rowan::{TextRange, TextSize};
 pub type Str = compact_str::CompactString;
 
 /// A name as written, with its lower-cased key (PDDL names are case-insensitive).
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+///
+/// Stored in one inline string of 32 bytes with the span, not two: a large
+/// `:init` or a domain of many actions holds hundreds of thousands of names.
+/// A name without upper-case letters (most of them) is its own key; one with
+/// some is stored followed by its key, which has the same length (ASCII
+/// lower-casing keeps every byte's width), and the upper-case letters of the
+/// first half tell the two forms apart.
+#[derive(Clone, PartialEq, Eq, Hash)]
 pub struct Name {
-    pub text: Str,
-    pub key: Str,
+    repr: Str,
     pub span: TextRange,
 }
 
 impl Name {
     #[inline]
     pub fn new(text: &str, span: TextRange) -> Name {
-        let upper = has_ascii_uppercase(text.as_bytes());
-        let text = Str::new(text);
-        let mut key = text.clone();
-        // Most names are lower case already: their key is a copy of the text.
-        if upper {
-            key.make_ascii_lowercase();
-        }
-        Name { text, key, span }
+        let repr = if has_ascii_uppercase(text.as_bytes()) {
+            let mut repr = Str::with_capacity(2 * text.len());
+            repr.push_str(text);
+            repr.push_str(text);
+            repr[text.len()..].make_ascii_lowercase();
+            repr
+        } else {
+            Str::new(text)
+        };
+        Name { repr, span }
+    }
+
+    /// Whether the name is stored followed by its key.
+    #[inline]
+    fn doubled(&self) -> bool {
+        has_ascii_uppercase(self.repr.as_bytes())
+    }
+
+    /// The name as written.
+    #[inline]
+    pub fn text(&self) -> &str {
+        if self.doubled() { &self.repr[..self.repr.len() / 2] } else { &self.repr }
+    }
+
+    /// The name lower-cased: what it is compared and looked up by.
+    #[inline]
+    pub fn key(&self) -> &str {
+        if self.doubled() { &self.repr[self.repr.len() / 2..] } else { &self.repr }
+    }
+
+    /// [`Name::text`], owned.
+    pub fn text_str(&self) -> Str {
+        Str::new(self.text())
+    }
+
+    /// [`Name::key`], owned.
+    pub fn key_str(&self) -> Str {
+        Str::new(self.key())
+    }
+}
+
+impl std::fmt::Debug for Name {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Name")
+            .field("text", &self.text())
+            .field("key", &self.key())
+            .field("span", &self.span)
+            .finish()
     }
 }
 
@@ -227,7 +273,7 @@ pub enum Effect {
     Forall(Vec<Typed>, Box<Effect>, TextRange),
     When(Gd, Box<Effect>, TextRange),
     /// `(increase (f) e)`, `(assign …)`, …
-    Numeric(Box<str>, Fluent, NumExpr, TextRange),
+    Numeric(Box<str>, Box<Fluent>, NumExpr, TextRange),
     /// `(assign (f) undefined)` and object-fluent assignment keep the target only.
     Timed(TimeSpec, Box<Effect>, TextRange),
 }
@@ -446,6 +492,38 @@ mod tests {
                 }
             }
         }
-        assert_eq!(Name::new("At-R", TextRange::default()).key, "at-r");
+        assert_eq!(Name::new("At-R", TextRange::default()).key(), "at-r");
+    }
+
+    /// A name gives back its text and its key, however it is stored.
+    #[test]
+    fn a_name_keeps_its_text_and_key() {
+        let span = TextRange::new(3.into(), 9.into());
+        for (text, key) in [
+            ("", ""),
+            ("at-r", "at-r"),
+            ("At-R", "at-r"),
+            ("ROVER", "rover"),
+            ("seg_RW_0_1_a_long_name_past_inline", "seg_rw_0_1_a_long_name_past_inline"),
+            ("Ärger-X", "Ärger-x"),
+            ("ärger", "ärger"),
+        ] {
+            let n = Name::new(text, span);
+            assert_eq!((n.text(), n.key(), n.span), (text, key, span));
+            assert_eq!(n.clone(), n);
+        }
+        assert_ne!(Name::new("At", TextRange::default()), Name::new("at", TextRange::default()));
+    }
+
+    /// Names, atoms, conditions and effects are what large domains and
+    /// `:init`s are made of: their sizes are the model's memory (before
+    /// names were stored in one string, 56, 208, 208, 296 and 280 bytes).
+    #[test]
+    fn model_nodes_stay_small() {
+        assert!(size_of::<Name>() <= 32, "{}", size_of::<Name>());
+        assert!(size_of::<Atom>() <= 136, "{}", size_of::<Atom>());
+        assert!(size_of::<Gd>() <= 136, "{}", size_of::<Gd>());
+        assert!(size_of::<Effect>() <= 152, "{}", size_of::<Effect>());
+        assert!(size_of::<InitElement>() <= 192, "{}", size_of::<InitElement>());
     }
 }

@@ -38,9 +38,11 @@ impl AgentTable {
             return;
         }
         let positions: Vec<usize> =
-            agent.iter().filter_map(|v| params.iter().position(|p| p.name.key == v.key)).collect();
+            agent.iter().filter_map(|v| params.iter().position(|p| p.name.key() == v.key())).collect();
         if !positions.is_empty() {
-            self.positions.entry(normalise_name(&name.text, self.matching).into_owned()).or_insert(positions);
+            self.positions
+                .entry(normalise_name(name.text(), self.matching).into_owned())
+                .or_insert(positions);
         }
     }
 

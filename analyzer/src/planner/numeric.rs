@@ -207,13 +207,13 @@ impl Numeric {
                 let Gd::Compare(cmp, l, rhs, _) = c.gd else { return false };
                 let is_fluent = |e: &NumExpr| match e {
                     NumExpr::Fluent(f) => {
-                        let key: Option<Vec<u32>> = g.functions.get(&f.func.key).and_then(|func| {
+                        let key: Option<Vec<u32>> = g.functions.get(f.func.key()).and_then(|func| {
                             std::iter::once(Some(func))
                                 .chain(f.args.iter().map(|t| match t {
                                     crate::model::Term::Var(v) => {
-                                        c.vars.iter().rev().find(|(k, _)| *k == v.key).map(|(_, o)| *o)
+                                        c.vars.iter().rev().find(|(k, _)| *k == v.key()).map(|(_, o)| *o)
                                     }
-                                    crate::model::Term::Const(o) => g.objects.id(&o.key),
+                                    crate::model::Term::Const(o) => g.objects.id(o.key()),
                                     _ => None,
                                 }))
                                 .collect()

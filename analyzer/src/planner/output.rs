@@ -93,9 +93,9 @@ pub fn solved(db: &dyn Db, task: &Task<'_>, p: &Plan) -> SolvedPlan {
     // `groundstation2` for `GroundStation2`.
     let obj = |o: u32| g.objects.declared(o).to_string();
     let declared = |item, key: &str| match &lower_item(db, item).data {
-        ItemData::Action(a) => a.name.text.to_string(),
-        ItemData::Task(t) => t.name.text.to_string(),
-        ItemData::Method(m) => m.name.text.to_string(),
+        ItemData::Action(a) => a.name.text().to_string(),
+        ItemData::Task(t) => t.name.text().to_string(),
+        ItemData::Method(m) => m.name.text().to_string(),
         _ => key.to_string(),
     };
     // Output order: primitive steps by start, then abstract ones by start.

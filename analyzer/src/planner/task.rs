@@ -329,8 +329,8 @@ struct Compiler<'a, 'db> {
 impl<'db> Compiler<'_, 'db> {
     fn term(&self, t: &Term, b: &Binding) -> Option<ObjId> {
         match t {
-            Term::Var(n) => b.iter().rev().find(|(k, _)| *k == n.key).map(|(_, o)| *o),
-            Term::Const(n) => self.g.objects.id(&n.key),
+            Term::Var(n) => b.iter().rev().find(|(k, _)| *k == n.key()).map(|(_, o)| *o),
+            Term::Const(n) => self.g.objects.id(n.key()),
             _ => None,
         }
     }
@@ -346,7 +346,7 @@ impl<'db> Compiler<'_, 'db> {
     /// (grounding checked it), `Err(())` when the atom occurs nowhere (a
     /// positive condition on it can never hold).
     fn atom(&mut self, item: Item<'db>, a: &crate::model::Atom, b: &Binding) -> Result<Option<AtomId>, ()> {
-        let Some(pred) = self.g.predicates.get(&a.pred.key) else { return Err(()) };
+        let Some(pred) = self.g.predicates.get(a.pred.key()) else { return Err(()) };
         if self.g.is_static(pred) && !self.goal {
             return Ok(None);
         }
@@ -450,7 +450,7 @@ impl<'db> Compiler<'_, 'db> {
         match e {
             NumExpr::Number(_) => Ok(()),
             NumExpr::Fluent(f) => {
-                let Some(func) = self.g.functions.get(&f.func.key) else { return Ok(()) };
+                let Some(func) = self.g.functions.get(f.func.key()) else { return Ok(()) };
                 if !self.g.dynamic_funcs.get(func as usize).copied().unwrap_or(false) {
                     return Ok(());
                 }
@@ -630,7 +630,7 @@ impl<'db> Compiler<'_, 'db> {
 }
 
 fn binding(params: &[Typed], args: &[ObjId]) -> Binding {
-    params.iter().zip(args).map(|(p, &o)| (p.name.key.clone(), o)).collect()
+    params.iter().zip(args).map(|(p, &o)| (p.name.key_str(), o)).collect()
 }
 
 /// The objects of each variable's types, and how many bindings they make.
@@ -649,7 +649,7 @@ fn each_binding(vars: &[Typed], domains: &[Vec<ObjId>], mut f: impl FnMut(Bindin
     }
     let mut choice = vec![0usize; domains.len()];
     loop {
-        f(vars.iter().zip(domains).zip(&choice).map(|((v, d), &k)| (v.name.key.clone(), d[k])).collect());
+        f(vars.iter().zip(domains).zip(&choice).map(|((v, d), &k)| (v.name.key_str(), d[k])).collect());
         let Some(k) = (0..choice.len()).rev().find(|&k| choice[k] + 1 < domains[k].len()) else { return };
         choice[k] += 1;
         choice[k + 1..].fill(0);
@@ -659,7 +659,9 @@ fn each_binding(vars: &[Typed], domains: &[Vec<ObjId>], mut f: impl FnMut(Bindin
 fn agents(params: &[Typed], agent: &[crate::model::Name], args: &[ObjId]) -> Vec<ObjId> {
     agent
         .iter()
-        .filter_map(|a| params.iter().position(|p| p.name.key == a.key).and_then(|i| args.get(i).copied()))
+        .filter_map(|a| {
+            params.iter().position(|p| p.name.key() == a.key()).and_then(|i| args.get(i).copied())
+        })
         .collect()
 }
 
@@ -703,7 +705,7 @@ pub fn compile<'db>(
     for &item in problem.items(db) {
         match (&lower_item(db, item).data, item.section(db)) {
             (ItemData::AllowedActions(names), _) => {
-                allowed_names.get_or_insert_with(Vec::new).extend(names.iter().map(|n| n.key.clone()))
+                allowed_names.get_or_insert_with(Vec::new).extend(names.iter().map(|n| n.key_str()))
             }
             (ItemData::Goal(gd), _) => goal.push((item, gd)),
             (ItemData::Htn(h), _) => htn_item = Some((item, h)),
@@ -814,7 +816,7 @@ pub fn compile<'db>(
                 }
                 if let Some(conf) = &t.conflicts {
                     for a in &conf.atoms {
-                        let Some(pred) = g.predicates.get(&a.pred.key) else { continue };
+                        let Some(pred) = g.predicates.get(a.pred.key()) else { continue };
                         let args = a.args.iter().map(|t| c.term(t, &b)).collect();
                         op.conflicts.push((pred, args));
                     }
@@ -889,7 +891,7 @@ pub fn compile<'db>(
                     op_index.get(&(Str::from(name), args))
                 };
                 let Some(&op) = op else { return };
-                subtasks.push((st.id.as_ref().map(|n| n.key.clone()), op));
+                subtasks.push((st.id.as_ref().map(|n| n.key_str()), op));
             }
             let b = binding(&method.params, m.binding);
             let mut pre = Vec::new();
@@ -922,7 +924,7 @@ pub fn compile<'db>(
             let orders = network_orders(&mut c, m.method, &method.network);
             methods.push(MethodInst {
                 item: m.method,
-                name: method.name.key.clone(),
+                name: method.name.key_str(),
                 task,
                 subtasks,
                 orders,
@@ -1067,7 +1069,7 @@ pub fn compile<'db>(
                 let mut seen = Vec::new();
                 for t in st.call.args.iter() {
                     if let Term::Var(n) = t
-                        && let Some(i) = h.params.iter().position(|p| p.name.key == n.key)
+                        && let Some(i) = h.params.iter().position(|p| p.name.key() == n.key())
                         && !seen.contains(&i)
                     {
                         seen.push(i);
@@ -1080,7 +1082,7 @@ pub fn compile<'db>(
                 let mut net = Network { tasks: Vec::new(), orders };
                 for (st, found) in h.network.subtasks.iter().zip(choices) {
                     let loc = Loc { item, span: st.call.span };
-                    let name = st.call.name.key.clone();
+                    let name = st.call.name.key_str();
                     let ground: Vec<u32> =
                         found.iter().filter_map(|a| op_index.get(&(name.clone(), &a[..])).copied()).collect();
                     match ground.as_slice() {
@@ -1141,9 +1143,9 @@ pub fn compile<'db>(
                         for st in &h.network.subtasks {
                             let args: Option<Vec<ObjId>> =
                                 st.call.args.iter().map(|t| c.term(t, &b)).collect();
-                            match args.and_then(|a| {
-                                op_index.get(&(st.call.name.key.clone(), a.as_slice())).copied()
-                            }) {
+                            match args
+                                .and_then(|a| op_index.get(&(st.call.name.key_str(), a.as_slice())).copied())
+                            {
                                 Some(op) => net.tasks.push((op, Loc { item, span: st.call.span })),
                                 None => {
                                     missing.get_or_insert(st.call.span);
@@ -1320,10 +1322,12 @@ fn network_orders<'db>(c: &mut Compiler<'_, 'db>, item: Item<'db>, net: &TaskNet
         }
         return out;
     }
-    let index = |id: &str| net.subtasks.iter().position(|s| s.id.as_ref().is_some_and(|n| n.key == id));
+    let index = |id: &str| net.subtasks.iter().position(|s| s.id.as_ref().is_some_and(|n| n.key() == id));
     for o in &net.ordering {
         let order: &Ordering = o;
-        let (Some(l), Some(r)) = (index(&order.left.id.key), index(&order.right.id.key)) else { continue };
+        let (Some(l), Some(r)) = (index(order.left.id.key()), index(order.right.id.key())) else {
+            continue;
+        };
         if order.negated {
             c.unsupported(item, order.span, "a negated ordering");
             continue;

@@ -23,7 +23,7 @@ pub type TypeSet = Vec<Str>;
 pub fn type_set(t: &TypeRef) -> TypeSet {
     match t {
         TypeRef::Implicit => vec!["object".into()],
-        _ => t.names().iter().map(|n| n.key.clone()).collect(),
+        _ => t.names().iter().map(|n| n.key_str()).collect(),
     }
 }
 
@@ -158,7 +158,7 @@ fn sig<'db>(kind: DeclKind, params: &[Typed], result: Option<TypeSet>, loc: Loc<
     SigDecl {
         kind,
         params: params.iter().map(|p| type_set(&p.ty)).collect(),
-        param_names: params.iter().map(|p| p.name.text.clone()).collect(),
+        param_names: params.iter().map(|p| p.name.text_str()).collect(),
         result,
         loc,
     }
@@ -189,7 +189,7 @@ pub fn domain_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> DomainSymbols<'d
     for &item in unit.items(db) {
         let loc = |span| Loc { item, span };
         match &lower_item(db, item).data {
-            ItemData::Requirements(reqs) => s.requirements.extend(reqs.iter().map(|r| r.key.clone())),
+            ItemData::Requirements(reqs) => s.requirements.extend(reqs.iter().map(|r| r.key_str())),
             ItemData::Types(types) => {
                 s.has_types_section = true;
                 for t in types {
@@ -197,12 +197,12 @@ pub fn domain_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> DomainSymbols<'d
                         TypeRef::Implicit => Vec::new(),
                         other => type_set(other),
                     };
-                    match s.types.get_mut(&t.name.key) {
+                    match s.types.get_mut(t.name.key()) {
                         // Declared twice: a warning (real files do it), parents merge.
                         Some(decl) => {
                             s.duplicates.push(Duplicate {
                                 what: "type",
-                                name: t.name.key.clone(),
+                                name: t.name.key_str(),
                                 first: decl.locs[0],
                                 again: loc(t.name.span),
                             });
@@ -210,10 +210,8 @@ pub fn domain_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> DomainSymbols<'d
                             decl.locs.push(loc(t.name.span));
                         }
                         None => {
-                            s.types.insert(
-                                t.name.key.clone(),
-                                TypeDecl { parents, locs: vec![loc(t.name.span)] },
-                            );
+                            s.types
+                                .insert(t.name.key_str(), TypeDecl { parents, locs: vec![loc(t.name.span)] });
                         }
                     }
                 }
@@ -221,14 +219,14 @@ pub fn domain_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> DomainSymbols<'d
             ItemData::Constants(cs) => {
                 for c in cs {
                     let value =
-                        ObjDecl { name: c.name.text.clone(), ty: type_set(&c.ty), loc: loc(c.name.span) };
-                    insert(&mut s.constants, &mut s.duplicates, "constant", &c.name.key, value, |d| d.loc);
+                        ObjDecl { name: c.name.text_str(), ty: type_set(&c.ty), loc: loc(c.name.span) };
+                    insert(&mut s.constants, &mut s.duplicates, "constant", c.name.key(), value, |d| d.loc);
                 }
             }
             ItemData::Predicates(ps) => {
                 for p in ps {
                     let value = sig(DeclKind::Predicate, &p.params, None, loc(p.name.span));
-                    insert(&mut s.predicates, &mut s.duplicates, "predicate", &p.name.key, value, |d| d.loc);
+                    insert(&mut s.predicates, &mut s.duplicates, "predicate", p.name.key(), value, |d| d.loc);
                 }
             }
             ItemData::Functions(fs) => {
@@ -238,46 +236,46 @@ pub fn domain_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> DomainSymbols<'d
                         other => type_set(other),
                     };
                     let value = sig(DeclKind::Function, &f.params, Some(result), loc(f.name.span));
-                    insert(&mut s.functions, &mut s.duplicates, "function", &f.name.key, value, |d| d.loc);
+                    insert(&mut s.functions, &mut s.duplicates, "function", f.name.key(), value, |d| d.loc);
                 }
             }
             ItemData::Derived(atom, params, _) => {
                 let value = sig(DeclKind::Derived, params, None, loc(atom.pred.span));
                 // A derived predicate may be declared in `:predicates` too.
-                s.predicates.entry(atom.pred.key.clone()).or_insert(value);
+                s.predicates.entry(atom.pred.key_str()).or_insert(value);
             }
             ItemData::Action(a) => {
                 let value = sig(DeclKind::Action(a.kind), &a.params, None, loc(a.name.span));
-                if let Some(t) = s.tasks.get(&a.name.key) {
+                if let Some(t) = s.tasks.get(a.name.key()) {
                     let first = t.loc;
                     s.duplicates.push(Duplicate {
                         what: "action or task",
-                        name: a.name.key.clone(),
+                        name: a.name.key_str(),
                         first,
                         again: value.loc,
                     });
                 } else {
-                    insert(&mut s.actions, &mut s.duplicates, "action", &a.name.key, value, |d| d.loc);
+                    insert(&mut s.actions, &mut s.duplicates, "action", a.name.key(), value, |d| d.loc);
                 }
             }
             ItemData::Task(t) => {
                 let value = sig(DeclKind::Task, &t.params, None, loc(t.name.span));
-                if let Some(a) = s.actions.get(&t.name.key) {
+                if let Some(a) = s.actions.get(t.name.key()) {
                     let first = a.loc;
                     s.duplicates.push(Duplicate {
                         what: "action or task",
-                        name: t.name.key.clone(),
+                        name: t.name.key_str(),
                         first,
                         again: value.loc,
                     });
                 } else {
-                    insert(&mut s.tasks, &mut s.duplicates, "task", &t.name.key, value, |d| d.loc);
+                    insert(&mut s.tasks, &mut s.duplicates, "task", t.name.key(), value, |d| d.loc);
                 }
             }
             ItemData::Method(m) => {
                 let value =
-                    MethodDecl { task: m.task.as_ref().map(|t| t.name.key.clone()), loc: loc(m.name.span) };
-                insert(&mut s.methods, &mut s.duplicates, "method", &m.name.key, value, |d| d.loc);
+                    MethodDecl { task: m.task.as_ref().map(|t| t.name.key_str()), loc: loc(m.name.span) };
+                insert(&mut s.methods, &mut s.duplicates, "method", m.name.key(), value, |d| d.loc);
             }
             _ => {}
         }
@@ -340,15 +338,15 @@ pub fn problem_symbols<'db>(db: &'db dyn Db, unit: Unit<'db>) -> ProblemSymbols<
     let declares = |i: &&Item<'db>| matches!(i.section(db), Section::Requirements | Section::Objects);
     for &item in unit.items(db).iter().filter(declares) {
         match &lower_item(db, item).data {
-            ItemData::Requirements(reqs) => s.requirements.extend(reqs.iter().map(|r| r.key.clone())),
+            ItemData::Requirements(reqs) => s.requirements.extend(reqs.iter().map(|r| r.key_str())),
             ItemData::Objects(objs) => {
                 for o in objs {
                     let value = ObjDecl {
-                        name: o.name.text.clone(),
+                        name: o.name.text_str(),
                         ty: type_set(&o.ty),
                         loc: Loc { item, span: o.name.span },
                     };
-                    insert(&mut s.objects, &mut s.duplicates, "object", &o.name.key, value, |d| d.loc);
+                    insert(&mut s.objects, &mut s.duplicates, "object", o.name.key(), value, |d| d.loc);
                 }
             }
             _ => {}

@@ -91,7 +91,7 @@ fn htn_tasks(db: &dyn Db, problem: Unit<'_>) -> Vec<Str> {
         if item.section(db) == Section::Htn
             && let ItemData::Htn(h) = &crate::db::lower_item(db, item).data
         {
-            out.extend(h.network.subtasks.iter().map(|s| s.call.name.key.clone()));
+            out.extend(h.network.subtasks.iter().map(|s| s.call.name.key_str()));
         }
     }
     out
@@ -118,7 +118,7 @@ impl Usage<'_> {
 
     /// Whether the planner may use an action or task of that name.
     fn usable(&self, name: &str) -> bool {
-        self.allowed.as_ref().is_some_and(|a| a.2.iter().any(|n| n.key == name))
+        self.allowed.as_ref().is_some_and(|a| a.2.iter().any(|n| n.key() == name))
             || self.used.contains_key(name)
             || self.htn.iter().any(|h| h == name)
     }
@@ -136,7 +136,7 @@ fn usage<'db>(db: &'db dyn Db, problem: Unit<'db>, d: &Domain<'db>) -> Option<Us
     let mut from_allowed: FxHashMap<Str, Loc<'db>> = FxHashMap::default();
     let is_task = |n: &str| d.ops.get(n).is_some_and(|o| o.2 == OperatorKind::Task);
     let allowed_tasks: Vec<Str> =
-        allowed.iter().flat_map(|a| &a.2).map(|n| n.key.clone()).filter(|n| is_task(n)).collect();
+        allowed.iter().flat_map(|a| &a.2).map(|n| n.key_str()).filter(|n| is_task(n)).collect();
     // Tasks reachable from the allowed tasks, then from the `:htn`, through
     // methods; the first method subtask that uses each action or task.
     for (roots, record) in [(allowed_tasks, &mut from_allowed), (htn.clone(), &mut used)] {
@@ -238,7 +238,7 @@ fn dead_and_double<'db>(
     is_family_move: &dyn Fn(&str) -> bool,
     out: &mut Vec<Lint<'db>>,
 ) {
-    let allowed_keys: FxHashSet<&str> = allowed.iter().map(|n| &*n.key).collect();
+    let allowed_keys: FxHashSet<&str> = allowed.iter().map(|n| n.key()).collect();
     for name in &d.order {
         let (item, span, kind) = d.ops[name];
         if allowed_keys.contains(&**name) || u.used.contains_key(name) || u.htn.contains(name) {
@@ -259,11 +259,11 @@ fn dead_and_double<'db>(
     }
 
     for n in allowed {
-        let Some(&(_, _, kind)) = d.ops.get(&n.key) else { continue };
-        if kind == OperatorKind::Task || is_family_move(&n.key) {
+        let Some(&(_, _, kind)) = d.ops.get(n.key()) else { continue };
+        if kind == OperatorKind::Task || is_family_move(n.key()) {
             continue;
         }
-        if let Some(&loc) = u.from_allowed.get(&n.key) {
+        if let Some(&loc) = u.from_allowed.get(n.key()) {
             out.push(
                 Lint::new(
                     codes::DOUBLE_INSERTION,
@@ -271,7 +271,7 @@ fn dead_and_double<'db>(
                     format!(
                         "`{}` is allowed and is also a subtask of a method of an allowed task: the planner can \
                          build the same plan both ways",
-                        n.text
+                        n.text()
                     ),
                 )
                 .related(loc, "a method of an allowed task uses it here"),
@@ -301,7 +301,7 @@ fn unreachable_goals<'db>(
         let mut atoms = Vec::new();
         positive_atoms(goal, &mut atoms);
         for atom in atoms {
-            let Some(pred) = g.predicates.get(&atom.pred.key) else { continue };
+            let Some(pred) = g.predicates.get(atom.pred.key()) else { continue };
             if g.untracked_preds.get(pred as usize).copied().unwrap_or(true) {
                 continue;
             }
@@ -309,7 +309,7 @@ fn unreachable_goals<'db>(
                 .args
                 .iter()
                 .map(|t| match t {
-                    crate::model::Term::Const(n) => g.objects.id(&n.key),
+                    crate::model::Term::Const(n) => g.objects.id(n.key()),
                     _ => None,
                 })
                 .collect();
@@ -410,7 +410,7 @@ fn unreachable_htn<'db>(
     let with =
         if pure_htn { "with the domain's methods" } else { "with the allowed actions and the methods" };
     for (item, sub) in htn_subtasks(db, problem) {
-        let name = &*sub.call.name.key;
+        let name = sub.call.name.key();
         if idx.schema(name).is_none() || idx.incomplete_tasks.contains(name) {
             continue;
         }
@@ -419,7 +419,7 @@ fn unreachable_htn<'db>(
         let mut known = true;
         for t in &sub.call.args {
             match t {
-                Term::Const(n) => match g.objects.id(&n.key) {
+                Term::Const(n) => match g.objects.id(n.key()) {
                     Some(o) => pattern.push(Some(o)),
                     None => known = false,
                 },
@@ -479,8 +479,8 @@ fn show_call(name: &str, args: &[Term]) -> String {
     for t in args {
         s.push(' ');
         match t {
-            Term::Var(n) | Term::Const(n) => s.push_str(&n.key),
-            Term::Func(f) => s.push_str(&format!("({} …)", f.func.key)),
+            Term::Var(n) | Term::Const(n) => s.push_str(n.key()),
+            Term::Func(f) => s.push_str(&format!("({} …)", f.func.key())),
         }
     }
     s.push(')');

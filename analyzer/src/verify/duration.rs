@@ -106,16 +106,16 @@ impl Compiler<'_, '_> {
 
     fn term(&mut self, t: &Term) -> Result<CTerm, (String, TextRange)> {
         match t {
-            Term::Var(n) => match self.params.iter().position(|p| p.name == n.key) {
+            Term::Var(n) => match self.params.iter().position(|p| p.name == n.key()) {
                 Some(i) => Ok(CTerm::Param(i as u32)),
-                None => Err((format!("`{}` is not a parameter", n.text), n.span)),
+                None => Err((format!("`{}` is not a parameter", n.text()), n.span)),
             },
-            Term::Const(n) => match self.objects.id(&n.key) {
+            Term::Const(n) => match self.objects.id(n.key()) {
                 Some(o) => Ok(CTerm::Obj(o)),
-                None => Err((format!("`{}` is not an object of the problem", n.text), n.span)),
+                None => Err((format!("`{}` is not an object of the problem", n.text()), n.span)),
             },
             Term::Func(f) => {
-                let func = self.funcs.intern(&f.func.key);
+                let func = self.funcs.intern(f.func.key());
                 let args = f.args.iter().map(|a| self.term(a)).collect::<Result<_, _>>()?;
                 Ok(CTerm::Fluent(func, args, f.span))
             }
@@ -133,7 +133,7 @@ impl Compiler<'_, '_> {
                 }
             }
             NumExpr::Fluent(f) => {
-                let func = self.funcs.intern(&f.func.key);
+                let func = self.funcs.intern(f.func.key());
                 let dynamic = self.dynamic.get(func as usize).copied().unwrap_or(false);
                 match f.args.iter().map(|a| self.term(a)).collect::<Result<Vec<_>, _>>() {
                     Ok(args) => CExpr::Fluent { func, args, dynamic, span: f.span },
@@ -158,7 +158,7 @@ impl Compiler<'_, '_> {
                 CExpr::Bad("a subtask's duration has no value here".into(), *span)
             }
             NumExpr::Special(s, span) => CExpr::Bad(format!("`{s}` has no value before planning"), *span),
-            NumExpr::Var(n) => CExpr::Bad(format!("`{}` is an object, not a number", n.text), n.span),
+            NumExpr::Var(n) => CExpr::Bad(format!("`{}` is an object, not a number", n.text()), n.span),
         }
     }
 }

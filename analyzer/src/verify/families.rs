@@ -545,15 +545,15 @@ fn duration_fact<'db>(db: &'db dyn Db, g: &Ground<'db>, op: &GroundOperator<'db>
     let lifted = operator(db, op.op).as_ref()?;
     let Duration::Exact(expr) = &lifted.duration else { return None };
     let fluent = first_fluent(expr)?;
-    let func = g.functions.get(&fluent.func.key)?;
+    let func = g.functions.get(fluent.func.key())?;
     let args: Option<Vec<ObjId>> = fluent
         .args
         .iter()
         .map(|t| match t {
             Term::Var(n) => {
-                lifted.params.iter().position(|p| p.name == n.key).and_then(|i| g.args(op).get(i).copied())
+                lifted.params.iter().position(|p| p.name == n.key()).and_then(|i| g.args(op).get(i).copied())
             }
-            Term::Const(n) => g.objects.id(&n.key),
+            Term::Const(n) => g.objects.id(n.key()),
             Term::Func(_) => None,
         })
         .collect();

@@ -366,7 +366,7 @@ fn ground_with_mode<'db>(
         .iter()
         .filter(|i| i.section(db) == Section::Derived)
         .filter_map(|&i| match &lower_item(db, i).data {
-            ItemData::Derived(atom, _, _) => Some(g.predicates.intern(&atom.pred.key)),
+            ItemData::Derived(atom, _, _) => Some(g.predicates.intern(atom.pred.key())),
             _ => None,
         })
         .collect();
@@ -730,25 +730,25 @@ fn lifted_htn<'a, 'db>(
         .params
         .iter()
         .map(|t| super::lifted::Param {
-            name: t.name.key.clone(),
+            name: t.name.key_str(),
             types: crate::semantics::symbols::type_set(&t.ty),
             span: t.name.span,
         })
         .collect();
     let mut subtasks = Vec::new();
     for st in &h.network.subtasks {
-        kind(&st.call.name.key)?;
+        kind(st.call.name.key())?;
         let args = st
             .call
             .args
             .iter()
             .map(|t| match t {
-                Term::Var(n) => params.iter().position(|p| p.name == n.key).map(|i| LTerm::Param(i as u32)),
-                Term::Const(n) => Some(LTerm::Const(n.key.clone())),
+                Term::Var(n) => params.iter().position(|p| p.name == n.key()).map(|i| LTerm::Param(i as u32)),
+                Term::Const(n) => Some(LTerm::Const(n.key_str())),
                 Term::Func(_) => None,
             })
             .collect::<Option<Vec<LTerm>>>()?;
-        subtasks.push((st.call.name.key.clone(), args));
+        subtasks.push((st.call.name.key_str(), args));
     }
     Some((super::tdg::LiftedHtn { params, subtasks }, methods))
 }
@@ -803,7 +803,7 @@ fn relevance_goal<'db>(
 fn goal_atoms(gd: &Gd, polarity: Option<bool>, g: &Ground<'_>, out: &mut RelGoal) -> Option<()> {
     match gd {
         Gd::Atom(a) => {
-            let Some(pred) = g.predicates.get(&a.pred.key) else { return Some(()) };
+            let Some(pred) = g.predicates.get(a.pred.key()) else { return Some(()) };
             if g.is_static(pred) {
                 return Some(());
             }
@@ -812,7 +812,7 @@ fn goal_atoms(gd: &Gd, polarity: Option<bool>, g: &Ground<'_>, out: &mut RelGoal
                 .args
                 .iter()
                 .map(|t| match t {
-                    Term::Const(c) => g.objects.id(&c.key),
+                    Term::Const(c) => g.objects.id(c.key()),
                     _ => None,
                 })
                 .collect();
@@ -846,9 +846,10 @@ fn goal_atoms(gd: &Gd, polarity: Option<bool>, g: &Ground<'_>, out: &mut RelGoal
 fn reads_changing_fluent(db: &dyn Db, item: Item<'_>, g: &Ground<'_>) -> bool {
     fn reads(e: &NumExpr, g: &Ground<'_>) -> bool {
         match e {
-            NumExpr::Fluent(f) => {
-                g.functions.get(&f.func.key).is_none_or(|id| g.dynamic_funcs.get(id as usize) != Some(&false))
-            }
+            NumExpr::Fluent(f) => g
+                .functions
+                .get(f.func.key())
+                .is_none_or(|id| g.dynamic_funcs.get(id as usize) != Some(&false)),
             NumExpr::Op(_, es, _) => es.iter().any(|e| reads(e, g)),
             NumExpr::Number(_) | NumExpr::Duration(_) | NumExpr::TaskDuration(..) | NumExpr::Var(_) => false,
             NumExpr::Special(..) => true,
@@ -873,7 +874,7 @@ fn reads_changing_fluent(db: &dyn Db, item: Item<'_>, g: &Ground<'_>) -> bool {
 fn numeric_targets(e: Option<&Effect>, funcs: &mut Interner, out: &mut Vec<FuncId>) {
     let Some(e) = e else { return };
     match e {
-        Effect::Numeric(_, f, _, _) => out.push(funcs.intern(&f.func.key)),
+        Effect::Numeric(_, f, _, _) => out.push(funcs.intern(f.func.key())),
         Effect::And(es, _) => es.iter().for_each(|e| numeric_targets(Some(e), funcs, out)),
         Effect::Forall(_, e, _) | Effect::When(_, e, _) | Effect::Timed(_, e, _) => {
             numeric_targets(Some(e), funcs, out)

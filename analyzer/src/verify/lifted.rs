@@ -182,20 +182,20 @@ struct Scope<'a> {
 impl Scope<'_> {
     fn term(&mut self, t: &Term) -> LTerm {
         match t {
-            Term::Var(n) => match self.params.iter().position(|p| p.name == n.key) {
+            Term::Var(n) => match self.params.iter().position(|p| p.name == n.key()) {
                 Some(i) => LTerm::Param(i as u32),
-                None => LTerm::Free(n.key.clone()),
+                None => LTerm::Free(n.key_str()),
             },
-            Term::Const(n) => LTerm::Const(n.key.clone()),
+            Term::Const(n) => LTerm::Const(n.key_str()),
             Term::Func(f) => {
                 self.unsupported.push(Unsupported { span: f.span, what: "an object-fluent term" });
-                LTerm::Free(format!("({})", f.func.key).into())
+                LTerm::Free(format!("({})", f.func.key()).into())
             }
         }
     }
 
     fn atom(&mut self, a: &Atom) -> LAtom {
-        LAtom { pred: a.pred.key.clone(), args: a.args.iter().map(|t| self.term(t)).collect(), span: a.span }
+        LAtom { pred: a.pred.key_str(), args: a.args.iter().map(|t| self.term(t)).collect(), span: a.span }
     }
 
     fn unsupported(&mut self, span: TextRange, what: &'static str) {
@@ -263,7 +263,7 @@ impl Scope<'_> {
 fn params(typed: &[Typed]) -> Vec<Param> {
     typed
         .iter()
-        .map(|t| Param { name: t.name.key.clone(), types: type_set(&t.ty), span: t.name.span })
+        .map(|t| Param { name: t.name.key_str(), types: type_set(&t.ty), span: t.name.span })
         .collect()
 }
 
@@ -381,7 +381,7 @@ fn action_operator(a: &Action) -> Operator {
     let unsupported = scope.unsupported;
     Operator {
         kind: if a.kind == ActionKind::Action { OperatorKind::Action } else { OperatorKind::Durative },
-        name: a.name.key.clone(),
+        name: a.name.key_str(),
         name_span: a.name.span,
         duration: duration(a.duration.as_ref()),
         params,
@@ -417,7 +417,7 @@ fn task_operator(t: &Task) -> Operator {
     let unsupported = scope.unsupported;
     Operator {
         kind: OperatorKind::Task,
-        name: t.name.key.clone(),
+        name: t.name.key_str(),
         name_span: t.name.span,
         duration: duration(t.duration.as_ref()),
         params,
@@ -443,28 +443,20 @@ fn method(m: &Method) -> MethodSchema {
         scope.condition(gd, true, &mut pre);
     }
     let task =
-        m.task.as_ref().map(|c| (c.name.key.clone(), c.args.iter().map(|a| scope.term(a)).collect(), c.span));
+        m.task.as_ref().map(|c| (c.name.key_str(), c.args.iter().map(|a| scope.term(a)).collect(), c.span));
     let subtasks = m
         .network
         .subtasks
         .iter()
         .map(|s| LSubtask {
-            id: s.id.as_ref().map(|i| i.key.clone()),
-            name: s.call.name.key.clone(),
+            id: s.id.as_ref().map(|i| i.key_str()),
+            name: s.call.name.key_str(),
             args: s.call.args.iter().map(|a| scope.term(a)).collect(),
             span: s.call.span,
         })
         .collect();
     let unsupported = scope.unsupported;
-    MethodSchema {
-        name: m.name.key.clone(),
-        name_span: m.name.span,
-        params,
-        task,
-        pre,
-        subtasks,
-        unsupported,
-    }
+    MethodSchema { name: m.name.key_str(), name_span: m.name.span, params, task, pre, subtasks, unsupported }
 }
 
 #[cfg(test)]

@@ -460,14 +460,14 @@ pub(crate) fn initial_state<'db>(
         for e in elements {
             match e {
                 InitElement::Fact(a) => {
-                    if let Some(id) =
-                        ground_key(preds, &a.pred.key, &a.args, objects, &mut key).then(|| atoms.intern(&key))
+                    if let Some(id) = ground_key(preds, a.pred.key(), &a.args, objects, &mut key)
+                        .then(|| atoms.intern(&key))
                     {
                         init.facts.push((id, loc(a.span)));
                     }
                 }
                 InitElement::NotFact(a, span) => {
-                    if ground_key(preds, &a.pred.key, &a.args, objects, &mut key) {
+                    if ground_key(preds, a.pred.key(), &a.args, objects, &mut key) {
                         init.negated.push((atoms.intern(&key), loc(*span)));
                     }
                 }
@@ -477,7 +477,7 @@ pub(crate) fn initial_state<'db>(
                     }
                 }
                 InitElement::AssignObject(f, o, span) => {
-                    if let (true, Some(o)) = (fluent_key(funcs, f, objects, &mut key), objects.id(&o.key)) {
+                    if let (true, Some(o)) = (fluent_key(funcs, f, objects, &mut key), objects.id(o.key())) {
                         init.object_fluents.entry(key.as_slice().into()).or_insert((o, loc(*span)));
                     }
                 }
@@ -488,7 +488,7 @@ pub(crate) fn initial_state<'db>(
                         // Timed numeric assignments do not change what holds at the start.
                         _ => continue,
                     };
-                    if ground_key(preds, &a.pred.key, &a.args, objects, &mut key) {
+                    if ground_key(preds, a.pred.key(), &a.args, objects, &mut key) {
                         let atom = atoms.intern(&key);
                         init.timed.push(TimedLiteral { time: time.value(), atom, positive, loc: loc(*span) });
                     }
@@ -519,14 +519,14 @@ fn ground_key(
 
 fn fluent_key(funcs: &mut Interner, f: &Fluent, objects: &Objects<'_>, key: &mut Vec<u32>) -> bool {
     key.clear();
-    key.push(funcs.intern(&f.func.key));
+    key.push(funcs.intern(f.func.key()));
     args_key(&f.args, objects, key)
 }
 
 fn args_key(args: &[Term], objects: &Objects<'_>, key: &mut Vec<u32>) -> bool {
     for t in args {
         match t {
-            Term::Const(n) => match objects.id(&n.key) {
+            Term::Const(n) => match objects.id(n.key()) {
                 Some(o) => key.push(o),
                 None => return false,
             },

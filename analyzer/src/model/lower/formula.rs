@@ -356,7 +356,7 @@ impl Cx {
                         } else {
                             self.num_expr(value)
                         };
-                        Effect::Numeric(h.as_str().into(), f, v, span)
+                        Effect::Numeric(h.as_str().into(), Box::new(f), v, span)
                     }
                     None => Effect::And(Vec::new(), span),
                 },

@@ -576,7 +576,7 @@ impl Cx {
             }
         }
         if m.task.is_none() {
-            self.error(codes::MALFORMED, m.name.span, format!("method `{}` has no `:task`", m.name.text));
+            self.error(codes::MALFORMED, m.name.span, format!("method `{}` has no `:task`", m.name.text()));
         }
         ItemData::Method(Box::new(m))
     }

@@ -139,8 +139,8 @@ impl<'a, 'db> Checker<'a, 'db> {
                     self.feature(Feature::Typing, t.name.span);
                 }
                 for t in types {
-                    if self.dom.cyclic_types.contains(&t.name.key) && t.ty != TypeRef::Implicit {
-                        let msg = format!("type `{}` is its own ancestor", t.name.text);
+                    if self.dom.cyclic_types.iter().any(|c| c == t.name.key()) && t.ty != TypeRef::Implicit {
+                        let msg = format!("type `{}` is its own ancestor", t.name.text());
                         self.diag(codes::TYPE_CYCLE, t.name.span, msg);
                     }
                     self.type_ref(&t.ty);
@@ -155,7 +155,7 @@ impl<'a, 'db> Checker<'a, 'db> {
                 for s in sigs {
                     self.params(&s.params, false);
                     if let TypeRef::Named(n) = &s.result
-                        && n.key.as_str() != "number"
+                        && n.key() != "number"
                     {
                         self.type_ref(&s.result);
                     }
@@ -189,7 +189,7 @@ impl<'a, 'db> Checker<'a, 'db> {
             }
             ItemData::AllowedActions(names) => {
                 for n in names {
-                    if self.known_domain && self.dom.callable(&n.key).is_none() {
+                    if self.known_domain && self.dom.callable(n.key()).is_none() {
                         let cands =
                             self.dom.actions.keys().chain(self.dom.tasks.keys()).map(|k| &**k).collect();
                         self.undefined(codes::UNDEFINED_ACTION, "action or task", n, cands);
@@ -221,12 +221,12 @@ impl<'a, 'db> Checker<'a, 'db> {
 
     fn requirements(&mut self, reqs: &[Name]) {
         for r in reqs {
-            if !KNOWN_REQUIREMENTS.contains(&r.key.as_ref()) {
-                let s = suggest(&r.key, KNOWN_REQUIREMENTS.iter().copied()).map(str::to_string);
+            if !KNOWN_REQUIREMENTS.contains(&r.key()) {
+                let s = suggest(r.key(), KNOWN_REQUIREMENTS.iter().copied()).map(str::to_string);
                 let d = self.diag(
                     codes::UNKNOWN_REQUIREMENT,
                     r.span,
-                    format!("unknown requirement `{}`", r.text),
+                    format!("unknown requirement `{}`", r.text()),
                 );
                 if let Some(s) = s {
                     d.message.push_str(&format!(" (did you mean `{s}`?)"));
@@ -243,8 +243,8 @@ impl<'a, 'db> Checker<'a, 'db> {
             self.feature(Feature::Typing, n.span);
         }
         for n in t.names() {
-            self.out.uses.types.insert(n.key.clone());
-            if self.known_domain && !self.dom.is_type(&n.key) {
+            self.out.uses.types.insert(n.key_str());
+            if self.known_domain && !self.dom.is_type(n.key()) {
                 let cands = self.dom.types.keys().map(|k| &**k).collect();
                 self.undefined(codes::UNDEFINED_TYPE, "type", n, cands);
             }
@@ -256,23 +256,23 @@ impl<'a, 'db> Checker<'a, 'db> {
         let mut seen: FxHashMap<&str, TextRange> = FxHashMap::default();
         for p in params {
             self.type_ref(&p.ty);
-            if let Some(first) = seen.insert(&p.name.key, p.name.span) {
-                let msg = format!("parameter `{}` is declared twice", p.name.text);
+            if let Some(first) = seen.insert(p.name.key(), p.name.span) {
+                let msg = format!("parameter `{}` is declared twice", p.name.text());
                 let loc = self.loc(first);
                 self.diag(codes::DUPLICATE, p.name.span, msg)
                     .related
                     .push((loc, "first declared here".into()));
             }
             if bind {
-                self.scope.push((p.name.key.clone(), type_set(&p.ty)));
+                self.scope.push((p.name.key_str(), type_set(&p.ty)));
             }
         }
     }
 
     fn agent(&mut self, agent: &[Name]) {
         for a in agent {
-            if !self.scope.iter().any(|(v, _)| *v == a.key) {
-                let msg = format!("agent `{}` is not a parameter", a.text);
+            if !self.scope.iter().any(|(v, _)| *v == a.key()) {
+                let msg = format!("agent `{}` is not a parameter", a.text());
                 self.diag(codes::UNDEFINED_VARIABLE, a.span, msg);
             }
         }
@@ -383,13 +383,13 @@ impl<'a, 'db> Checker<'a, 'db> {
         self.params(&m.params, true);
         if let Some(call) = &m.task {
             let dom = self.dom;
-            match dom.tasks.get(&call.name.key) {
+            match dom.tasks.get(call.name.key()) {
                 Some(decl) => self.call_args(call, decl, "task"),
                 None if !self.known_domain => {}
                 None => {
-                    if let Some(action) = self.dom.actions.get(&call.name.key) {
+                    if let Some(action) = self.dom.actions.get(call.name.key()) {
                         let loc = action.loc;
-                        let msg = format!("`{}` is an action: a method decomposes a task", call.name.text);
+                        let msg = format!("`{}` is an action: a method decomposes a task", call.name.text());
                         self.diag(codes::UNDEFINED_TASK, call.name.span, msg)
                             .related
                             .push((loc, "declared as an action here".into()));
@@ -546,8 +546,8 @@ impl<'a, 'db> Checker<'a, 'db> {
 
 fn term_text(t: &Term) -> String {
     match t {
-        Term::Var(n) | Term::Const(n) => n.text.to_string(),
-        Term::Func(f) => format!("({} …)", f.func.text),
+        Term::Var(n) | Term::Const(n) => n.text().to_string(),
+        Term::Func(f) => format!("({} …)", f.func.text()),
     }
 }
 

@@ -62,13 +62,14 @@ pub fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Opt
 
 /// Whether a constant is a number, which has no type to check.
 fn is_number(c: &Name) -> bool {
-    matches!(c.key.as_bytes().first(), Some(b'0'..=b'9' | b'-' | b'+' | b'.')) && c.key.parse::<f64>().is_ok()
+    matches!(c.key().as_bytes().first(), Some(b'0'..=b'9' | b'-' | b'+' | b'.'))
+        && c.key().parse::<f64>().is_ok()
 }
 
 impl<'a, 'db> Checker<'a, 'db> {
     pub(super) fn undefined(&mut self, code: &'static Code, what: &str, name: &Name, candidates: Vec<&str>) {
-        let suggestion = suggest(&name.key, candidates.into_iter()).map(str::to_string);
-        let d = self.diag(code, name.span, format!("undefined {what} `{}`", name.text));
+        let suggestion = suggest(name.key(), candidates.into_iter()).map(str::to_string);
+        let d = self.diag(code, name.span, format!("undefined {what} `{}`", name.text()));
         if let Some(s) = suggestion {
             d.message.push_str(&format!(" (did you mean `{s}`?)"));
             d.fix = Some((format!("replace with `{s}`"), name.span, s));
@@ -134,7 +135,7 @@ impl<'a, 'db> Checker<'a, 'db> {
         let msg = format!(
             "{} `{}` takes {} argument{}, but {} {} given",
             Self::decl_kind(decl),
-            name.text,
+            name.text(),
             expected,
             if expected == 1 { "" } else { "s" },
             given,
@@ -150,7 +151,7 @@ impl<'a, 'db> Checker<'a, 'db> {
             term_text(arg),
             describe(ty),
             Self::decl_kind(decl),
-            name.text,
+            name.text(),
             describe(param)
         );
         self.diag(codes::TYPE_MISMATCH, arg.span(), msg).related.push((decl.loc, "declared here".into()));
@@ -176,23 +177,23 @@ impl<'a, 'db> Checker<'a, 'db> {
         if is_number(c) {
             return None;
         }
-        self.prob.and_then(|p| p.objects.get(c.key.as_str())).map(|d| &d.ty[..])
+        self.prob.and_then(|p| p.objects.get(c.key())).map(|d| &d.ty[..])
     }
 
     fn variable(&mut self, v: &Name, wildcards: bool) -> Option<Cow<'a, [Str]>> {
-        if let Some((_, ty)) = self.scope.iter().rev().find(|(n, _)| *n == v.key) {
+        if let Some((_, ty)) = self.scope.iter().rev().find(|(n, _)| *n == v.key()) {
             return Some(Cow::Owned(ty.clone()));
         }
-        if v.key.as_str() == "?duration" && self.durative {
+        if v.key() == "?duration" && self.durative {
             return None;
         }
         if !wildcards {
             let cands: Vec<String> = self.scope.iter().map(|(n, _)| n.to_string()).collect();
-            let suggestion = suggest(&v.key, cands.iter().map(String::as_str)).map(str::to_string);
+            let suggestion = suggest(v.key(), cands.iter().map(String::as_str)).map(str::to_string);
             let d = self.diag(
                 codes::UNDEFINED_VARIABLE,
                 v.span,
-                format!("variable `{}` is not bound by a parameter or quantifier", v.text),
+                format!("variable `{}` is not bound by a parameter or quantifier", v.text()),
             );
             if let Some(s) = suggestion {
                 d.message.push_str(&format!(" (did you mean `{s}`?)"));
@@ -206,10 +207,10 @@ impl<'a, 'db> Checker<'a, 'db> {
     /// constant, or undefined.
     fn constant(&mut self, c: &Name) -> Option<Cow<'a, [Str]>> {
         let dom = self.dom;
-        if let Some(d) = dom.constants.get(&c.key) {
+        if let Some(d) = dom.constants.get(c.key()) {
             // Only domain constants can be unused declarations.
-            if !self.out.uses.constants.contains(&c.key) {
-                self.out.uses.constants.insert(c.key.clone());
+            if !self.out.uses.constants.contains(c.key()) {
+                self.out.uses.constants.insert(c.key_str());
             }
             return Some(Cow::Borrowed(&d.ty));
         }
@@ -218,12 +219,12 @@ impl<'a, 'db> Checker<'a, 'db> {
             let problems = crate::semantics::resolve::problems_of(self.db, self.unit);
             let declaring = problems
                 .iter()
-                .find_map(|&p| problem_symbols(self.db, p).objects.get(&c.key).map(|o| (p, o.clone())));
+                .find_map(|&p| problem_symbols(self.db, p).objects.get(c.key()).map(|o| (p, o.clone())));
             if let Some((p, obj)) = declaring {
                 let pname = p.name(self.db).clone().unwrap_or_default();
                 let msg = format!(
                     "constant `{}` is not declared in the domain, only as an object of problem `{pname}`",
-                    c.text
+                    c.text()
                 );
                 self.diag(codes::CONSTANT_FROM_PROBLEM, c.span, msg)
                     .related
@@ -233,7 +234,7 @@ impl<'a, 'db> Checker<'a, 'db> {
             if problems.is_empty() {
                 let msg = format!(
                     "constant `{}` is not declared in the domain: its problems must declare it as an object",
-                    c.text
+                    c.text()
                 );
                 self.diag(codes::CONSTANT_FROM_PROBLEM, c.span, msg);
                 return None;
@@ -252,19 +253,19 @@ impl<'a, 'db> Checker<'a, 'db> {
 
     pub(super) fn fluent(&mut self, f: &Fluent) -> Option<Cow<'a, [Str]>> {
         if let Some((key, decl)) = &self.last_function
-            && *key == f.func.key
+            && *key == f.func.key()
         {
             let decl = *decl;
             self.args(&f.func, &f.args, f.span, decl, false);
             return decl.result.as_deref().map(Cow::Borrowed);
         }
-        if !self.out.uses.functions.contains(&f.func.key) {
-            self.out.uses.functions.insert(f.func.key.clone());
+        if !self.out.uses.functions.contains(f.func.key()) {
+            self.out.uses.functions.insert(f.func.key_str());
         }
         let dom = self.dom;
-        let found = dom.functions.get(&f.func.key);
+        let found = dom.functions.get(f.func.key());
         if let Some(decl) = found {
-            self.last_function = Some((f.func.key.clone(), decl));
+            self.last_function = Some((f.func.key_str(), decl));
         }
         match found {
             Some(decl) => {
@@ -286,18 +287,18 @@ impl<'a, 'db> Checker<'a, 'db> {
 
     pub(super) fn atom(&mut self, a: &Atom, wildcards: bool) {
         if let Some((key, decl)) = &self.last_predicate
-            && *key == a.pred.key
+            && *key == a.pred.key()
         {
             let decl = *decl;
             return self.args(&a.pred, &a.args, a.span, decl, wildcards);
         }
-        if !self.out.uses.predicates.contains(&a.pred.key) {
-            self.out.uses.predicates.insert(a.pred.key.clone());
+        if !self.out.uses.predicates.contains(a.pred.key()) {
+            self.out.uses.predicates.insert(a.pred.key_str());
         }
         let dom = self.dom;
-        let found = dom.predicates.get(&a.pred.key);
+        let found = dom.predicates.get(a.pred.key());
         if let Some(decl) = found {
-            self.last_predicate = Some((a.pred.key.clone(), decl));
+            self.last_predicate = Some((a.pred.key_str(), decl));
         }
         match found {
             Some(decl) => self.args(&a.pred, &a.args, a.span, decl, wildcards),

@@ -68,14 +68,14 @@ impl Checker<'_, '_> {
         let mut ids: FxHashMap<Str, TextRange> = FxHashMap::default();
         for st in &net.subtasks {
             if let Some(id) = &st.id
-                && let Some(first) = ids.insert(id.key.clone(), id.span)
+                && let Some(first) = ids.insert(id.key_str(), id.span)
             {
-                let msg = format!("subtask id `{}` is used twice", id.text);
+                let msg = format!("subtask id `{}` is used twice", id.text());
                 let loc = self.loc(first);
                 self.diag(codes::DUPLICATE, id.span, msg).related.push((loc, "first used here".into()));
             }
             let dom = self.dom;
-            match dom.callable(&st.call.name.key) {
+            match dom.callable(st.call.name.key()) {
                 Some(decl) => self.call_args(&st.call, decl, "subtask"),
                 None if !self.known_domain => {}
                 None => {
@@ -103,11 +103,14 @@ impl Checker<'_, '_> {
 
     pub(super) fn subtask_id(&mut self, id: &Name) {
         let Some(ids) = &self.ids else { return };
-        if !ids.contains(&id.key) {
+        if !ids.contains(id.key()) {
             let cands: Vec<&str> = ids.iter().map(|k| &**k).collect();
-            let suggestion = suggest(&id.key, cands.into_iter()).map(str::to_string);
-            let d =
-                self.diag(codes::UNDEFINED_SUBTASK, id.span, format!("no subtask has the id `{}`", id.text));
+            let suggestion = suggest(id.key(), cands.into_iter()).map(str::to_string);
+            let d = self.diag(
+                codes::UNDEFINED_SUBTASK,
+                id.span,
+                format!("no subtask has the id `{}`", id.text()),
+            );
             if let Some(s) = suggestion {
                 d.message.push_str(&format!(" (did you mean `{s}`?)"));
                 d.fix = Some((format!("replace with `{s}`"), id.span, s));
@@ -127,7 +130,7 @@ impl Checker<'_, '_> {
                 Endpoint::Whole => !left,
             };
             let n = index.len();
-            *index.entry((p.id.key.clone(), start)).or_insert(n)
+            *index.entry((p.id.key_str(), start)).or_insert(n)
         };
         // (from, to, strict, ordering index)
         let mut edges: Vec<(usize, usize, bool, usize)> = Vec::new();

@@ -146,7 +146,7 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
                 .iter()
                 .zip(&ids)
                 .filter_map(|(&j, id)| {
-                    let sub = applied.method.network.subtasks.get(j)?.id.as_ref()?.key.clone();
+                    let sub = applied.method.network.subtasks.get(j)?.id.as_ref()?.key_str();
                     Some((sub, step_duration(cx.plan.index_of(id.value)?)?))
                 })
                 .collect();
@@ -163,7 +163,7 @@ pub(super) fn check(cx: &mut Cx<'_, '_>, tl: &Timeline) {
                 .params
                 .iter()
                 .zip(&res.args)
-                .filter_map(|(p, a)| Some((p.name.key.clone(), cx.objects.id(a)?)))
+                .filter_map(|(p, a)| Some((p.name.key_str(), cx.objects.id(a)?)))
                 .collect();
             if let Some(pre) = &task.precondition {
                 let loc = Loc { item: tloc.item, span: crate::semantics::check::gd_span(pre) };
@@ -588,7 +588,7 @@ fn report(cx: &mut Cx<'_, '_>, tl: &Timeline, nodes: &[Node<'_>], f: Failure) {
 /// Why a condition is false, in words.
 fn why(ev: &Eval<'_, '_, '_>, c: &Condition<'_>) -> String {
     if !c.free.is_empty() {
-        let vars: Vec<&str> = c.free.iter().map(|t| t.name.text.as_str()).collect();
+        let vars: Vec<&str> = c.free.iter().map(|t| t.name.text()).collect();
         return format!("no value of {} makes it true", vars.join(", "));
     }
     let mut b: Binding<'_> = Binding::default();
@@ -691,9 +691,9 @@ fn duration_num<'m>(
     match e {
         NumExpr::Duration(_) => Ok(c.duration),
         NumExpr::TaskDuration(id, span) => {
-            c.subtasks.iter().find(|(k, _)| *k == id.key).map(|(_, d)| *d).ok_or_else(|| EvalError {
+            c.subtasks.iter().find(|(k, _)| *k == id.key()).map(|(_, d)| *d).ok_or_else(|| EvalError {
                 kind: crate::eval::ErrorKind::Unresolved,
-                message: format!("`{}` is not a subtask with times", id.text),
+                message: format!("`{}` is not a subtask with times", id.text()),
                 span: *span,
                 fluent: None,
             })
@@ -751,7 +751,7 @@ fn apply(cx: &Cx<'_, '_>, world: &World<'_, '_>, state: &mut State, tl: &Timelin
         .params
         .iter()
         .zip(&res.args)
-        .filter_map(|(p, a)| Some((p.name.key.clone(), cx.objects.id(a)?)))
+        .filter_map(|(p, a)| Some((p.name.key_str(), cx.objects.id(a)?)))
         .collect();
     let phases: &[Phase] = match (action.kind, ev.kind) {
         (ActionKind::Durative, EventKind::Instant) => &[Phase::Start, Phase::End],
@@ -856,14 +856,16 @@ fn free_vars(method: &Method, g: &Gd, binding: &[(Str, ObjId)]) -> Vec<Typed> {
     method
         .params
         .iter()
-        .filter(|p| used.contains(&p.name.key) && !binding.iter().any(|(v, _)| *v == p.name.key))
+        .filter(|p| {
+            used.iter().any(|u| u == p.name.key()) && !binding.iter().any(|(v, _)| *v == p.name.key())
+        })
         .cloned()
         .collect()
 }
 
 fn term_vars(t: &Term, out: &mut Vec<Str>) {
     match t {
-        Term::Var(n) => out.push(n.key.clone()),
+        Term::Var(n) => out.push(n.key_str()),
         Term::Const(_) => {}
         Term::Func(f) => f.args.iter().for_each(|a| term_vars(a, out)),
     }
@@ -873,7 +875,7 @@ fn expr_vars(e: &NumExpr, out: &mut Vec<Str>) {
     match e {
         NumExpr::Fluent(f) => f.args.iter().for_each(|a| term_vars(a, out)),
         NumExpr::Op(_, xs, _) => xs.iter().for_each(|x| expr_vars(x, out)),
-        NumExpr::Var(n) => out.push(n.key.clone()),
+        NumExpr::Var(n) => out.push(n.key_str()),
         _ => {}
     }
 }

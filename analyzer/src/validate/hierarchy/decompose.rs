@@ -40,14 +40,14 @@ pub(super) fn patterns(net: &TaskNetwork) -> Vec<Pattern> {
     net.subtasks
         .iter()
         .map(|s| Pattern {
-            name: s.call.name.key.clone(),
+            name: s.call.name.key_str(),
             args: s
                 .call
                 .args
                 .iter()
                 .map(|t| match t {
-                    Term::Var(n) => PTerm::Var(n.key.clone()),
-                    Term::Const(n) => PTerm::Const(n.key.clone()),
+                    Term::Var(n) => PTerm::Var(n.key_str()),
+                    Term::Const(n) => PTerm::Const(n.key_str()),
                     Term::Func(_) => PTerm::Any,
                 })
                 .collect(),
@@ -57,7 +57,7 @@ pub(super) fn patterns(net: &TaskNetwork) -> Vec<Pattern> {
 
 /// The index of a subtask of a network by its id.
 pub(super) fn subtask_index(net: &TaskNetwork, id: &str) -> Option<usize> {
-    net.subtasks.iter().position(|s| s.id.as_ref().is_some_and(|n| n.key == id))
+    net.subtasks.iter().position(|s| s.id.as_ref().is_some_and(|n| n.key() == id))
 }
 
 /// For each subtask, the subtasks a network orders before it as a whole:
@@ -85,7 +85,7 @@ pub(super) fn precedences(net: &TaskNetwork) -> Vec<Vec<usize>> {
         if !(whole_end && whole_start) {
             continue;
         }
-        if let (Some(a), Some(b)) = (subtask_index(net, &before.id.key), subtask_index(net, &after.id.key))
+        if let (Some(a), Some(b)) = (subtask_index(net, before.id.key()), subtask_index(net, after.id.key()))
             && a != b
             && !preds[b].contains(&a)
         {
@@ -119,23 +119,23 @@ pub(super) fn transitive(preds: &[Vec<usize>]) -> Vec<Vec<usize>> {
 /// A subtask's name in messages: its id, or its place.
 pub(super) fn subtask_label(net: &TaskNetwork, j: usize) -> String {
     match net.subtasks.get(j).and_then(|s| s.id.as_ref()) {
-        Some(id) => id.text.to_string(),
+        Some(id) => id.text().to_string(),
         None => format!("subtask {}", j + 1),
     }
 }
 
 /// `(name arg…)` of a subtask, with the variables the binding knows replaced.
 pub(super) fn instantiate(s: &Subtask, binding: &[Bound]) -> String {
-    let mut out = format!("({}", s.call.name.text);
+    let mut out = format!("({}", s.call.name.text());
     for t in &s.call.args {
         out.push(' ');
         match t {
-            Term::Var(n) => match lookup(binding, &n.key) {
+            Term::Var(n) => match lookup(binding, n.key()) {
                 Some(b) => out.push_str(&b.value),
-                None => out.push_str(&n.text),
+                None => out.push_str(n.text()),
             },
-            Term::Const(n) => out.push_str(&n.text),
-            Term::Func(f) => out.push_str(&format!("({} …)", f.func.text)),
+            Term::Const(n) => out.push_str(n.text()),
+            Term::Func(f) => out.push_str(&format!("({} …)", f.func.text())),
         }
     }
     out.push(')');
@@ -154,8 +154,8 @@ impl<'db> Cx<'_, 'db> {
     pub(super) fn static_holds(&self, g: &Gd, binding: &[Bound]) -> Option<bool> {
         let value = |t: &Term| -> Option<Str> {
             match t {
-                Term::Var(n) => lookup(binding, &n.key).map(|b| b.value.clone()),
-                Term::Const(n) => Some(n.key.clone()),
+                Term::Var(n) => lookup(binding, n.key()).map(|b| b.value.clone()),
+                Term::Const(n) => Some(n.key_str()),
                 Term::Func(_) => None,
             }
         };
@@ -225,11 +225,11 @@ impl<'db> Cx<'_, 'db> {
             return;
         }
         let types: FxHashMap<Str, Vec<Str>> =
-            method.params.iter().map(|p| (p.name.key.clone(), type_set(&p.ty))).collect();
+            method.params.iter().map(|p| (p.name.key_str(), type_set(&p.ty))).collect();
         let mut binding: Vec<Bound> = Vec::new();
         for (k, (t, v)) in head.args.iter().zip(&res.args).enumerate() {
             let problem = match t {
-                Term::Var(x) => match lookup(&binding, &x.key) {
+                Term::Var(x) => match lookup(&binding, x.key()) {
                     Some(b) if b.value != *v => {
                         let Source::Head(first) = b.source else { continue };
                         Some(format!(
@@ -239,22 +239,22 @@ impl<'db> Cx<'_, 'db> {
                             b.value,
                             k + 1,
                             head_text(method),
-                            x.text
+                            x.text()
                         ))
                     }
                     Some(_) => None,
-                    None => match types.get(&x.key) {
+                    None => match types.get(x.key()) {
                         Some(ty) if !self.fits(v, ty) => Some(format!(
                             "argument {} of `{}` is `{v}`, of type `{}`, but the method's parameter `{}` has type `{}`",
                             k + 1,
                             s.call(),
                             self.type_of(v),
-                            x.text,
+                            x.text(),
                             ty.join(" or ")
                         )),
                         _ => {
                             binding.push(Bound {
-                                var: x.key.clone(),
+                                var: x.key_str(),
                                 value: v.clone(),
                                 source: Source::Head(k),
                             });
@@ -262,12 +262,12 @@ impl<'db> Cx<'_, 'db> {
                         }
                     },
                 },
-                Term::Const(c) if c.key != *v => Some(format!(
+                Term::Const(c) if c.key() != *v => Some(format!(
                     "argument {} of `{}` is `{v}`, but the method's `:task` `{}` has the constant `{}` there",
                     k + 1,
                     s.call(),
                     head_text(method),
-                    c.text
+                    c.text()
                 )),
                 _ => None,
             };
@@ -417,7 +417,7 @@ impl<'db> Cx<'_, 'db> {
         let pats = patterns(net.network);
         let preds = precedences(net.network);
         let types: FxHashMap<Str, Vec<Str>> =
-            net.params.iter().map(|p| (p.name.key.clone(), type_set(&p.ty))).collect();
+            net.params.iter().map(|p| (p.name.key_str(), type_set(&p.ty))).collect();
         let type_ok = |var: &str, obj: &str| types.get(var).is_none_or(|ty| self.fits(obj, ty));
         let accept = |b: &[Bound]| net.statics.iter().all(|g| self.static_holds(g, b) != Some(false));
         let orderings = NetOrder::new(tl, net.network, plan, ids);
@@ -562,8 +562,8 @@ impl<'db> Cx<'_, 'db> {
         );
         self.related_plan(&mut d, ids[late].range, format!("{} is listed here", ids[late].value));
         let ordering = net.network.ordering.iter().find(|o| {
-            subtask_index(net.network, &o.left.id.key).is_some_and(|a| a == jl || a == je)
-                && subtask_index(net.network, &o.right.id.key).is_some_and(|b| b == jl || b == je)
+            subtask_index(net.network, o.left.id.key()).is_some_and(|a| a == jl || a == je)
+                && subtask_index(net.network, o.right.id.key()).is_some_and(|b| b == jl || b == je)
         });
         match ordering {
             Some(o) => self.related_loc(&mut d, Loc { item: net.item, span: o.span }, "the ordering"),
@@ -682,7 +682,7 @@ impl<'db> Cx<'_, 'db> {
                             let ty = net
                                 .params
                                 .iter()
-                                .find(|p| p.name.key == *v)
+                                .find(|p| p.name.key() == *v)
                                 .map_or("object".to_string(), |p| type_set(&p.ty).join(" or "));
                             format!(
                                 "argument {} is `{got}`, of type `{}`, but `{v}` has type `{ty}`",
@@ -864,12 +864,12 @@ pub(super) fn list_range(ids: &[StepId], after: TextRange) -> TextRange {
 /// The method's `:task` as written.
 pub(super) fn head_text(method: &Method) -> String {
     let Some(t) = &method.task else { return String::new() };
-    let mut s = format!("({}", t.name.text);
+    let mut s = format!("({}", t.name.text());
     for a in &t.args {
         s.push(' ');
         match a {
-            Term::Var(n) | Term::Const(n) => s.push_str(&n.text),
-            Term::Func(f) => s.push_str(&format!("({} …)", f.func.text)),
+            Term::Var(n) | Term::Const(n) => s.push_str(n.text()),
+            Term::Func(f) => s.push_str(&format!("({} …)", f.func.text())),
         }
     }
     s.push(')');

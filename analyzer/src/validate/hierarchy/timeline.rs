@@ -531,7 +531,7 @@ impl<'t> NetOrder<'t> {
         }
         for o in &network.ordering {
             if let (Some(a), Some(b)) =
-                (subtask_index(network, &o.left.id.key), subtask_index(network, &o.right.id.key))
+                (subtask_index(network, o.left.id.key()), subtask_index(network, o.right.id.key()))
             {
                 orderings.push((a, b, Some(o)));
             }
@@ -735,9 +735,9 @@ pub(super) fn holds(op: CmpOp, (a, ea): (Span, Endpoint), (b, eb): (Span, Endpoi
 /// An ordering as the domain writes it, with its ids.
 fn ordering_text(o: &Ordering) -> String {
     let point = |p: &crate::model::OrderPoint| match p.endpoint {
-        Endpoint::Whole => p.id.text.to_string(),
-        Endpoint::Start => format!("(start {})", p.id.text),
-        Endpoint::End => format!("(end {})", p.id.text),
+        Endpoint::Whole => p.id.text().to_string(),
+        Endpoint::Start => format!("(start {})", p.id.text()),
+        Endpoint::End => format!("(end {})", p.id.text()),
     };
     let op = match o.op {
         CmpOp::Lt => "<",

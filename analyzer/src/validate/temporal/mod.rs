@@ -50,7 +50,7 @@ impl<'db> Step<'db> {
     fn binding(&self) -> Binding<'db> {
         let mut b = Binding::default();
         for (p, &o) in self.action.params.iter().zip(&self.args) {
-            b.push(&p.name.key, o);
+            b.push(p.name.key(), o);
         }
         b
     }

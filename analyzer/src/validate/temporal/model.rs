@@ -29,7 +29,7 @@ pub(super) fn unsupported_model<'db>(
                     Some((
                         format!(
                             "the domain has the PDDL+ {kind} `{}`: what processes and events do over time is not checked",
-                            a.name.text
+                            a.name.text()
                         ),
                         a.name.span,
                     ))
@@ -37,14 +37,14 @@ pub(super) fn unsupported_model<'db>(
                 ItemData::Action(a) if continuous(a).is_some() => Some((
                     format!(
                         "the action `{}` has continuous effects (`#t`): change over time is not simulated",
-                        a.name.text
+                        a.name.text()
                     ),
                     continuous(a).unwrap_or(a.name.span),
                 )),
                 ItemData::Derived(atom, _, _) => Some((
                     format!(
                         "the domain has the derived predicate `{}`: derived predicates are not evaluated",
-                        atom.pred.text
+                        atom.pred.text()
                     ),
                     atom.pred.span,
                 )),
@@ -113,7 +113,7 @@ pub(super) fn prepare<'db>(db: &'db dyn Db, domain: Unit<'db>, problem: Unit<'db
     let mut actions = FxHashMap::default();
     for &item in domain.items(db) {
         if let ItemData::Action(a) = &lower_item(db, item).data {
-            actions.entry(a.name.key.to_string()).or_insert((item, &**a));
+            actions.entry(a.name.key().to_string()).or_insert((item, &**a));
         }
     }
     let mut tils = Vec::new();
@@ -146,10 +146,10 @@ pub(in crate::validate) fn til_change(
 ) -> Option<TilChange> {
     let key = |names: &Interner, name: &Name, args: &[Term]| -> Option<Key> {
         let mut k = Key::new();
-        k.push(names.get(&name.key)?);
+        k.push(names.get(name.key())?);
         for t in args {
             match t {
-                Term::Const(n) => k.push(objects.id(&n.key)?),
+                Term::Const(n) => k.push(objects.id(n.key())?),
                 _ => return None,
             }
         }
@@ -207,14 +207,14 @@ pub(super) fn ground_step<'db>(
     };
     let decl = Loc { item, span: action.name.span };
     if s.args.len() != action.params.len() {
-        let params: Vec<String> = action.params.iter().map(|p| p.name.text.to_string()).collect();
+        let params: Vec<String> = action.params.iter().map(|p| p.name.text().to_string()).collect();
         out.push(
             Failure::new(
                 codes::STEP_ARITY,
                 s.span,
                 format!(
                     "{step} gives `{}` {} argument{}, but it takes {} ({})",
-                    action.name.text,
+                    action.name.text(),
                     s.args.len(),
                     if s.args.len() == 1 { "" } else { "s" },
                     action.params.len(),
@@ -268,8 +268,8 @@ pub(super) fn ground_step<'db>(
                 span,
                 format!(
                     "{step}: `{arg}` is of type `{declared}`, but parameter `{}` of `{}` has type `{}`",
-                    param.name.text,
-                    action.name.text,
+                    param.name.text(),
+                    action.name.text(),
                     wanted.join(" or ")
                 ),
             )
