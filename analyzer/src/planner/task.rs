@@ -82,6 +82,32 @@ pub struct Eff {
     pub at: End,
 }
 
+impl<'db> Op<'db> {
+    /// A choice among ground instances (an `:htn` task with free
+    /// parameters, a split subtask): abstract, one method per instance.
+    fn choice(item: Item<'db>, name: Str, methods: Vec<u32>) -> Op<'db> {
+        Op {
+            item,
+            name,
+            args: Vec::new(),
+            is_abstract: true,
+            instant: false,
+            duration: None,
+            conds: Vec::new(),
+            effs: Vec::new(),
+            conflicts: Vec::new(),
+            agents: Vec::new(),
+            allowed: false,
+            methods,
+            dead: false,
+            choice: true,
+            num_conds: Vec::new(),
+            num_effs: Vec::new(),
+            num_duration: None,
+        }
+    }
+}
+
 /// A ground action (elementary) or task (abstract), Definitions 2 and 3.
 #[derive(Debug, Clone)]
 pub struct Op<'db> {
@@ -991,25 +1017,7 @@ pub fn compile<'db>(
                 });
             }
         }
-        ops.push(Op {
-            item: item.unwrap_or(split.method),
-            name,
-            args: Vec::new(),
-            is_abstract: true,
-            instant: false,
-            duration: None,
-            conds: Vec::new(),
-            effs: Vec::new(),
-            conflicts: Vec::new(),
-            agents: Vec::new(),
-            allowed: false,
-            methods: Vec::new(),
-            dead: false,
-            choice: true,
-            num_conds: Vec::new(),
-            num_effs: Vec::new(),
-            num_duration: None,
-        });
+        ops.push(Op::choice(item.unwrap_or(split.method), name, Vec::new()));
     }
     for (i, m) in methods.iter().enumerate() {
         ops[m.task as usize].methods.push(i as u32);
@@ -1103,25 +1111,8 @@ pub fn compile<'db>(
                                 });
                             }
                             let first = ground.len();
-                            ops.push(Op {
-                                item: ops[ground[0] as usize].item,
-                                name,
-                                args: Vec::new(),
-                                is_abstract: true,
-                                instant: false,
-                                duration: None,
-                                conds: Vec::new(),
-                                effs: Vec::new(),
-                                conflicts: Vec::new(),
-                                agents: Vec::new(),
-                                allowed: false,
-                                methods: ((methods.len() - first) as u32..methods.len() as u32).collect(),
-                                dead: false,
-                                choice: true,
-                                num_conds: Vec::new(),
-                                num_effs: Vec::new(),
-                                num_duration: None,
-                            });
+                            let between = ((methods.len() - first) as u32..methods.len() as u32).collect();
+                            ops.push(Op::choice(ops[ground[0] as usize].item, name, between));
                             net.tasks.push((choice, loc));
                         }
                     }
