@@ -194,7 +194,7 @@ impl Search<'_, '_> {
             trial.copy_from_slice(&gone);
             trial[s as usize] = true;
             let mut extra = vec![s];
-            if cx.attempt(&base, &gone, &mut trial, &mut extra, &mut work) {
+            if cx.attempt(&base, &mut gone, &mut trial, &mut extra, &mut work) {
                 gone.copy_from_slice(&trial);
                 groups.push(extra.clone());
                 // What the trial did without starts at `t0` or later (unless
@@ -203,7 +203,7 @@ impl Search<'_, '_> {
                 // plan's last happening moved.
                 let later = extra.iter().all(|&x| p.stn.est(p.steps[x as usize].start) >= t0);
                 if !later || last_happening(p, &events, &gone) != base.last {
-                    base = cx.replay(&gone, t0, &mut work);
+                    base = cx.replay(&mut gone, t0, &mut work);
                 }
                 continue;
             }
@@ -227,11 +227,17 @@ impl Search<'_, '_> {
             }
             // The producers started earlier: from the start of the plan.
             if extra.len() > 1
-                && cx.attempt(&Sim::new(self, p, &events, &gone), &gone, &mut trial, &mut extra, &mut work)
+                && cx.attempt(
+                    &Sim::new(self, p, &events, &gone),
+                    &mut gone,
+                    &mut trial,
+                    &mut extra,
+                    &mut work,
+                )
             {
                 gone.copy_from_slice(&trial);
                 groups.push(extra);
-                base = cx.replay(&gone, t0, &mut work);
+                base = cx.replay(&mut gone, t0, &mut work);
             }
         }
         (gone, work, groups)
@@ -329,11 +335,13 @@ impl Tries<'_, '_, '_> {
     /// less `extra`, and the later steps that can no longer run, which
     /// join both): from `from`, where the reference run (the steps not
     /// `base`, valid) stands. A step that started and fails later: again
-    /// without it, from the start of the plan.
+    /// without it, from the start of the plan. `base` is borrowed mutably
+    /// for [`Sim::group`] only, which changes nothing without `drop`: no
+    /// copy of it per try.
     fn attempt(
         &self,
         from: &Sim,
-        base: &[bool],
+        base: &mut [bool],
         trial: &mut [bool],
         extra: &mut Vec<u32>,
         work: &mut u64,
@@ -366,7 +374,7 @@ impl Tries<'_, '_, '_> {
     fn converge(
         &self,
         from: &Sim,
-        base: &[bool],
+        base: &mut [bool],
         trial: &mut [bool],
         extra: &mut Vec<u32>,
         drop: bool,
@@ -382,7 +390,6 @@ impl Tries<'_, '_, '_> {
             t.last = last_happening(p, events, trial);
         }
         let mut r = from.clone();
-        let mut base_scratch = base.to_vec();
         let mut diff: FxHashSet<u32> = FxHashSet::default();
         let mut pending = extra.iter().map(|&x| last_of(x)).fold(f64::NEG_INFINITY, f64::max);
         let mut beside = true;
@@ -406,7 +413,7 @@ impl Tries<'_, '_, '_> {
             if !beside {
                 continue;
             }
-            if r.group(search, p, events, &mut base_scratch, false).is_some() {
+            if r.group(search, p, events, base, false).is_some() {
                 // The reference fails (it should not): the trial runs to
                 // its end alone.
                 beside = false;
@@ -432,13 +439,12 @@ impl Tries<'_, '_, '_> {
 
     /// The reference run of the steps not `gone`, up to the happenings
     /// at `t0` (not run).
-    fn replay(&self, gone: &[bool], t0: f64, work: &mut u64) -> Sim {
+    fn replay(&self, gone: &mut [bool], t0: f64, work: &mut u64) -> Sim {
         let (search, p, events) = (self.search, self.p, self.events);
         let mut sim = Sim::new(search, p, events, gone);
-        let mut scratch = gone.to_vec();
         while !sim.done(events) && events[sim.i].t < t0 {
             *work += 1;
-            if sim.group(search, p, events, &mut scratch, false).is_some() {
+            if sim.group(search, p, events, gone, false).is_some() {
                 break;
             }
         }
