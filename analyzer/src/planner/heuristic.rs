@@ -12,7 +12,7 @@
 //! relaxed model does not count.
 
 use super::stn::EPS;
-use super::task::{End, Lit, Task, lit};
+use super::task::{Eff, End, Lit, Op, Task, lit};
 
 pub struct Heuristic {
     /// h_add of each literal in time, and in effort (`INFINITY` when unreachable).
@@ -21,6 +21,13 @@ pub struct Heuristic {
     /// Estimated time and effort to refine each abstract operator.
     pub refine_cost: Vec<f64>,
     pub refine_effort: Vec<f64>,
+    /// Per literal that holds initially: h_add in time and effort of making
+    /// it true again with a step (its cheapest achiever's conditions and
+    /// duration), for an open link that the initial state can no longer
+    /// support (a step already deletes it before the need); `INFINITY`
+    /// when nothing adds it. Other literals: their h_add.
+    pub again_cost: Vec<f64>,
+    pub again_effort: Vec<f64>,
     /// Per abstract operator: the literals its refinements may make true
     /// (sorted); `None` when the fixpoint was too large to compute, and any
     /// literal is assumed possible.
@@ -54,30 +61,9 @@ impl Heuristic {
                 if op.dead || (restrict && !op.allowed) || (op.is_abstract && op.methods.is_empty()) {
                     continue;
                 }
-                // What the start needs; then what the rest needs, but what
-                // the operator's own start provides (an `over all` or `at
-                // end` condition its start makes true).
-                let own = |l: Lit| op.effs.iter().any(|e| e.at == End::Start && e.lit == l);
-                let (mut sc, mut se, mut ec, mut ee) = (0.0, 0.0, 0.0, 0.0);
-                for c in &op.conds {
-                    let later = c.at == End::End || c.until == End::End;
-                    if !later || op.instant {
-                        sc += cost[c.lit as usize];
-                        se += effort[c.lit as usize];
-                    } else if !own(c.lit) {
-                        ec += cost[c.lit as usize];
-                        ee += effort[c.lit as usize];
-                    }
-                }
-                if !sc.is_finite() {
-                    continue;
-                }
+                let Some(ends) = effect_costs(op, &cost, &effort) else { continue };
                 for e in &op.effs {
-                    let (oc, oe) = if e.at == End::Start && !op.instant {
-                        (sc + EPS, se + 1.0)
-                    } else {
-                        (sc + ec + op.duration.unwrap_or(0.0) + EPS, se + ee + 1.0)
-                    };
+                    let (oc, oe) = ends[effect_end(op, e)];
                     if !oc.is_finite() {
                         continue;
                     }
@@ -91,6 +77,35 @@ impl Heuristic {
                         changed = true;
                     }
                 }
+            }
+        }
+        // Making a literal true again: the cheapest achiever, with the
+        // costs of the fixpoint (a literal that does not hold initially
+        // keeps its own).
+        let mut again_cost = cost.clone();
+        let mut again_effort = effort.clone();
+        for a in 0..task.g.atoms.len() as u32 {
+            for l in [lit(a, false), lit(a, true)] {
+                if task.holds_initially(l) {
+                    again_cost[l as usize] = f64::INFINITY;
+                    again_effort[l as usize] = f64::INFINITY;
+                }
+            }
+        }
+        for t in task.tils.iter().filter(|t| task.holds_initially(t.lit)) {
+            again_cost[t.lit as usize] = again_cost[t.lit as usize].min(t.time);
+            again_effort[t.lit as usize] = 0.0;
+        }
+        for op in task.ops.iter() {
+            if op.dead || (restrict && !op.allowed) || (op.is_abstract && op.methods.is_empty()) {
+                continue;
+            }
+            let Some(ends) = effect_costs(op, &cost, &effort) else { continue };
+            for e in op.effs.iter().filter(|e| task.holds_initially(e.lit)) {
+                let (oc, oe) = ends[effect_end(op, e)];
+                let k = e.lit as usize;
+                again_cost[k] = again_cost[k].min(oc);
+                again_effort[k] = again_effort[k].min(oe);
             }
         }
         // Refinement estimates: a primitive subtask costs its duration and
@@ -135,7 +150,7 @@ impl Heuristic {
             }
         }
         let may_add = may_add(task);
-        Heuristic { cost, effort, refine_cost, refine_effort, may_add }
+        Heuristic { cost, effort, refine_cost, refine_effort, again_cost, again_effort, may_add }
     }
 
     pub fn lit_cost(&self, l: Lit) -> f64 {
@@ -158,6 +173,39 @@ impl Heuristic {
             None => true,
         }
     }
+}
+
+/// What an operator's effects cost in time and effort, from the costs of
+/// its conditions: `[0]` an effect at its start (what the start needs, ε,
+/// one action), `[1]` one at its end (every condition but those its own
+/// start makes true, the duration, ε, one action). `None` when its start
+/// cannot be reached.
+fn effect_costs(op: &Op<'_>, cost: &[f64], effort: &[f64]) -> Option<[(f64, f64); 2]> {
+    // What the start needs; then what the rest needs, but what the
+    // operator's own start provides (an `over all` or `at end` condition
+    // its start makes true).
+    let own = |l: Lit| op.effs.iter().any(|e| e.at == End::Start && e.lit == l);
+    let (mut sc, mut se, mut ec, mut ee) = (0.0, 0.0, 0.0, 0.0);
+    for c in &op.conds {
+        let later = c.at == End::End || c.until == End::End;
+        if !later || op.instant {
+            sc += cost[c.lit as usize];
+            se += effort[c.lit as usize];
+        } else if !own(c.lit) {
+            ec += cost[c.lit as usize];
+            ee += effort[c.lit as usize];
+        }
+    }
+    if !sc.is_finite() {
+        return None;
+    }
+    Some([(sc + EPS, se + 1.0), (sc + ec + op.duration.unwrap_or(0.0) + EPS, se + ee + 1.0)])
+}
+
+/// Which of [`effect_costs`] an effect takes: `0` at the start of a
+/// durative operator, else `1`.
+fn effect_end(op: &Op<'_>, e: &Eff) -> usize {
+    if e.at == End::Start && !op.instant { 0 } else { 1 }
 }
 
 /// What the refinements of each abstract operator may add: a fixpoint over

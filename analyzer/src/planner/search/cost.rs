@@ -64,20 +64,35 @@ impl Search<'_, '_> {
                 // deleting the literal ordered with it.
                 // (A deletion at or after the need, the consumer's own
                 // included, cannot come between the producer and the need.)
+                // And none of those deleting it between the producer and
+                // the need (the paper's words: "no other step removes this
+                // literal after its creation"): one fuel level of the
+                // initial state, or one a flight leaves, does not serve
+                // two flights in a row.
                 let deleters = index.of(o.lit ^ 1);
+                let after_need = |d: Tp| d == o.need || p.stn.before(o.need, d);
                 let ordered = |e: Tp| {
-                    e == ORIGIN
-                        || deleters.iter().all(|&d| {
-                            d == o.need || p.stn.before(o.need, d) || p.stn.before(d, e) || p.stn.before(e, d)
-                        })
+                    deleters.iter().all(|&d| {
+                        after_need(d)
+                            || d == e
+                            || p.stn.before(d, e)
+                            || ((e == ORIGIN || p.stn.before(e, d)) && !p.stn.before(d, o.need))
+                    })
                 };
-                if self.task.holds_initially(o.lit) && o.step != INIT && ordered(ORIGIN) {
+                let initially = self.task.holds_initially(o.lit) && o.step != INIT;
+                if initially && ordered(ORIGIN) {
                     return (0.0, 0.0);
                 }
                 for &e in index.of(o.lit) {
                     if e != o.need && !p.stn.before(o.need, e) && ordered(e) {
                         return (0.0, 0.0);
                     }
+                }
+                if initially {
+                    // The initial state no longer supports it: it must be
+                    // made true again.
+                    let l = o.lit as usize;
+                    return (self.h.again_cost[l].min(1e6), self.h.again_effort[l].min(1e6));
                 }
                 base
             }
