@@ -64,33 +64,46 @@ impl Search<'_, '_> {
                 // deleting the literal ordered with it.
                 // (A deletion at or after the need, the consumer's own
                 // included, cannot come between the producer and the need.)
-                // And none of those deleting it between the producer and
-                // the need (the paper's words: "no other step removes this
-                // literal after its creation"): one fuel level of the
-                // initial state, or one a flight leaves, does not serve
-                // two flights in a row.
+                // And none of them surely deleting it between the producer
+                // and the need (the paper's words: "no other step removes
+                // this literal after its creation"): a fuel level that a
+                // flight leaves does not serve the flight after the next.
                 let deleters = index.of(o.lit ^ 1);
                 let after_need = |d: Tp| d == o.need || p.stn.before(o.need, d);
+                let between = |e: Tp, d: Tp| {
+                    d != e && (e == ORIGIN || p.stn.before(e, d)) && !after_need(d) && p.stn.before(d, o.need)
+                };
                 let ordered = |e: Tp| {
                     deleters.iter().all(|&d| {
-                        after_need(d)
-                            || d == e
-                            || p.stn.before(d, e)
-                            || ((e == ORIGIN || p.stn.before(e, d)) && !p.stn.before(d, o.need))
+                        !between(e, d)
+                            && (e == ORIGIN
+                                || d == e
+                                || after_need(d)
+                                || p.stn.before(d, e)
+                                || p.stn.before(e, d))
                     })
                 };
+                let can_be_before = |e: Tp| e != o.need && !p.stn.before(o.need, e);
                 let initially = self.task.holds_initially(o.lit) && o.step != INIT;
                 if initially && ordered(ORIGIN) {
                     return (0.0, 0.0);
                 }
-                for &e in index.of(o.lit) {
-                    if e != o.need && !p.stn.before(o.need, e) && ordered(e) {
-                        return (0.0, 0.0);
-                    }
+                if index.of(o.lit).iter().any(|&e| can_be_before(e) && ordered(e)) {
+                    return (0.0, 0.0);
                 }
                 if initially {
-                    // The initial state no longer supports it: it must be
-                    // made true again.
+                    // A step surely uses up the initial value before the
+                    // need (one fuel level of the initial state does not
+                    // serve two flights in a row): free only if a step of
+                    // the plan may still give it back in time, else it
+                    // must be made true again.
+                    if index
+                        .of(o.lit)
+                        .iter()
+                        .any(|&e| can_be_before(e) && deleters.iter().all(|&d| !between(e, d)))
+                    {
+                        return (0.0, 0.0);
+                    }
                     let l = o.lit as usize;
                     return (self.h.again_cost[l].min(1e6), self.h.again_effort[l].min(1e6));
                 }
@@ -211,5 +224,69 @@ impl EffectIndex {
 
     pub(super) fn of(&self, l: Lit) -> &[Tp] {
         self.by_lit.get(&l).map_or(&[], |v| v.as_slice())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::{Config, PlannerLimits, prepare};
+    use super::*;
+    use crate::AnalysisHost;
+
+    /// One token: `spend-a` and `spend-b` each need it at their start and
+    /// use it up at their end; `mint` makes one (5 time units).
+    const DOMAIN: &str = "(define (domain token)
+  (:requirements :durative-actions)
+  (:predicates (token) (a) (b))
+  (:durative-action spend-a :parameters () :duration (= ?duration 1)
+    :condition (at start (token)) :effect (and (at end (not (token))) (at end (a))))
+  (:durative-action spend-b :parameters () :duration (= ?duration 1)
+    :condition (at start (token)) :effect (and (at end (not (token))) (at end (b))))
+  (:durative-action mint :parameters () :duration (= ?duration 5)
+    :effect (at end (token))))";
+
+    /// The estimate of `spend-b`'s open link on `(token)` in a plan where
+    /// `spend-a` is ordered before it, and in one where `spend-b` is first.
+    fn token_costs() -> (f64, f64, f64) {
+        let problem = "(define (problem p) (:domain token) (:init (token)) (:goal (and (a) (b))))";
+        let mut host = AnalysisHost::new();
+        host.set_file_text("domain.pddl", DOMAIN);
+        let pf = host.set_file_text("problem.pddl", problem);
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::host::first_problem(db, pf).expect("a problem");
+                let config = Config::default();
+                let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
+                let (task, h) = (&prepared.task, &prepared.h);
+                let search = Search::new(task, h, &config);
+                let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
+                let token = task.ops[op("mint") as usize].effs[0].lit;
+                let cost_of_b = |a_first: bool| {
+                    let mut p = Plan::initial(task).expect("a plan");
+                    let a = p.add_step(task, h, op("spend-a"), None).expect("added");
+                    let b = p.add_step(task, h, op("spend-b"), None).expect("added");
+                    let (a, b) = (p.steps[a as usize], p.steps[b as usize]);
+                    let ordered =
+                        if a_first { p.stn.add(a.end, b.start, EPS) } else { p.stn.add(b.end, a.start, EPS) };
+                    assert!(ordered);
+                    let o = *p.open.iter().find(|o| o.need == b.start && o.lit == token).expect("b's link");
+                    let index = EffectIndex::new(task, &p, [token, token ^ 1].into_iter());
+                    search.open_cost(&p, &o, &index).0
+                };
+                (cost_of_b(true), cost_of_b(false), h.again_cost[token as usize])
+            })
+            .expect("not cancelled")
+    }
+
+    /// Advance reuse (Equation 1) counts a link free when a producer can
+    /// come before it and no step removes the literal after its creation:
+    /// the initial token serves `spend-b` when `spend-b` comes first, not
+    /// when `spend-a` has used it up before; then it must be minted again.
+    #[test]
+    fn a_literal_deleted_between_its_producer_and_the_need_is_not_reused() {
+        let (after_a, before_a, again) = token_costs();
+        assert_eq!(before_a, 0.0);
+        assert!((again - (5.0 + EPS)).abs() < 1e-9, "{again}");
+        assert_eq!(after_a, again);
     }
 }
