@@ -712,6 +712,11 @@ impl Instances {
         self.found.len()
     }
 
+    /// Frees the deduplication table: no instance is added any more.
+    pub fn forget_index(&mut self) {
+        self.by_hash = hashbrown::HashTable::new();
+    }
+
     /// The operator and arguments of instance `i`.
     pub fn get(&self, i: usize) -> (usize, &[ObjId]) {
         let (op, at) = self.found[i];
