@@ -629,8 +629,9 @@ fn ground_with_mode<'db>(
         })
         .sum();
     let total: usize = (0..ops.len()).map(count).sum();
-    // The deduplication table of the fixpoint is no longer needed: freed
-    // before the ground operators are built, the largest part of the peak.
+    // The fixpoint's deduplication table and spare room are no longer
+    // needed: freed before the ground operators are built, the largest part
+    // of the peak.
     fix.instances.forget_index();
     g.operators.reserve_exact(total);
     g.lists.reserve_exact(lists_len);

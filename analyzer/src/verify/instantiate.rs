@@ -712,9 +712,13 @@ impl Instances {
         self.found.len()
     }
 
-    /// Frees the deduplication table: no instance is added any more.
+    /// Frees the deduplication table, and the spare room of the arrays
+    /// (grown by doubling): no instance is added any more.
     pub fn forget_index(&mut self) {
         self.by_hash = hashbrown::HashTable::new();
+        // Exact copies: the allocator may keep a block shrunk in place whole.
+        self.found = self.found.as_slice().to_vec();
+        self.args = self.args.as_slice().to_vec();
     }
 
     /// The operator and arguments of instance `i`.
