@@ -90,9 +90,9 @@ pub struct GroundOperator<'db> {
     /// The operator has constructs outside the STRIPS view: the lists may
     /// miss atoms (see [`super::lifted::Operator::unsupported`]).
     pub unsupported: bool,
-    /// Start of its lists in [`Ground::lists`], and where each ends (relative):
-    /// pre, neg_pre, add, del. The arguments come first, as many as the
-    /// schema has parameters ([`Schema::arity`]).
+    /// Where its lists start in [`Ground::lists`], and where each ends
+    /// (relative): pre, neg_pre, add, del. Its arguments are just before,
+    /// as many as the schema has parameters ([`Schema::arity`]).
     at: u32,
     ends: [u32; 4],
 }
@@ -225,38 +225,38 @@ impl<'db> Ground<'db> {
             .map_or(&[], |s| &self.operators[s.start as usize..s.end as usize])
     }
 
-    /// List `k` of an instance: 0 its arguments, then pre, neg_pre, add, del.
+    /// List `k` of an instance: pre, neg_pre, add, del.
     fn list(&self, o: &GroundOperator<'db>, k: usize) -> &[u32] {
-        let arity = self.schemas.get(o.schema as usize).map_or(0, |s| s.arity);
-        let end = |k: usize| if k == 0 { arity } else { o.ends[k - 1] };
-        let start = if k == 0 { 0 } else { end(k - 1) };
-        let (a, b) = (o.at as usize + start as usize, o.at as usize + end(k) as usize);
+        let start = if k == 0 { 0 } else { o.ends[k - 1] };
+        let (a, b) = (o.at as usize + start as usize, o.at as usize + o.ends[k] as usize);
         self.lists.get(a..b).unwrap_or(&[])
     }
 
     /// The parameters' values of an instance, in declaration order.
     pub fn args(&self, o: &GroundOperator<'db>) -> &[ObjId] {
-        self.list(o, 0)
+        let arity = self.schemas.get(o.schema as usize).map_or(0, |s| s.arity as usize);
+        let at = o.at as usize;
+        self.lists.get(at.saturating_sub(arity)..at).unwrap_or(&[])
     }
 
     /// Positive preconditions on predicates that are not static (sorted, no duplicates).
     pub fn pre(&self, o: &GroundOperator<'db>) -> &[AtomId] {
-        self.list(o, 1)
+        self.list(o, 0)
     }
 
     /// Negative preconditions on predicates that are not static (sorted).
     pub fn neg_pre(&self, o: &GroundOperator<'db>) -> &[AtomId] {
-        self.list(o, 2)
+        self.list(o, 1)
     }
 
     /// Add effects (sorted).
     pub fn add(&self, o: &GroundOperator<'db>) -> &[AtomId] {
-        self.list(o, 3)
+        self.list(o, 2)
     }
 
     /// Delete effects (sorted).
     pub fn del(&self, o: &GroundOperator<'db>) -> &[AtomId] {
-        self.list(o, 4)
+        self.list(o, 3)
     }
 
     pub fn is_static(&self, pred: PredId) -> bool {
@@ -651,10 +651,9 @@ fn ground_with_mode<'db>(
             }
             None => {
                 let indices = by_op.of_mut(schema);
-                indices.sort_unstable_by(|&a, &b| {
-                    by_args(instances.get(a as usize).1, instances.get(b as usize).1)
-                });
-                Box::new(indices.iter().map(|&k| instances.get(k as usize).1))
+                let args = move |k: u32| instances.args_of(k as usize, arity);
+                indices.sort_unstable_by(|&a, &b| by_args(args(a), args(b)));
+                Box::new(indices.iter().map(move |&k| args(k)))
             }
         };
         let start = g.operators.len() as u32;
@@ -672,8 +671,8 @@ fn ground_with_mode<'db>(
             if args.len() != arity {
                 continue;
             }
-            let at = lists.len();
             lists.extend_from_slice(args);
+            let at = lists.len();
             let mut ends = [0u32; 4];
             for (n, l) in [&c.pre, &c.neg, &c.spec_add.add, &c.del].into_iter().enumerate() {
                 let from = lists.len();

@@ -721,6 +721,12 @@ impl Instances {
         self.args = self.args.as_slice().to_vec();
     }
 
+    /// The arguments of instance `i`, whose operator has `arity` parameters.
+    pub fn args_of(&self, i: usize, arity: usize) -> &[ObjId] {
+        let at = self.found[i].1 as usize;
+        &self.args[at..at + arity]
+    }
+
     /// The operator and arguments of instance `i`.
     pub fn get(&self, i: usize) -> (usize, &[ObjId]) {
         let (op, at) = self.found[i];
