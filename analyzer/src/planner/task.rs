@@ -797,7 +797,7 @@ pub fn compile<'db>(
                 }
                 op.duration = match a.kind {
                     ActionKind::Action => Some(0.0),
-                    _ => o.duration,
+                    _ => o.duration(),
                 };
                 if o.no_duration {
                     // Undefined in this problem (a fluent without value): PDDL
@@ -831,7 +831,7 @@ pub fn compile<'db>(
                 if let Some(e) = &t.effect {
                     c.effs(item, e, &b, None, &mut op.effs);
                 }
-                op.duration = o.duration;
+                op.duration = o.duration();
                 if o.no_duration {
                     op.dead = true;
                 } else if op.duration.is_none()

@@ -360,7 +360,7 @@ fn moves<'db>(
         }
     }
     for (index, op) in g.operators.iter().enumerate() {
-        let (Some((from, to)), Some(d)) = (move_of(g, op, f.pred, c), op.duration) else { continue };
+        let (Some((from, to)), Some(d)) = (move_of(g, op, f.pred, c), op.duration()) else { continue };
         let (key, a) = split(g, from, c);
         let b = split(g, to, c).1;
         if let Some(inst) = instances.get_mut(&key) {
@@ -422,7 +422,7 @@ fn moves<'db>(
     // Property 5: an operator that changes position faster than the move.
     let mut reported: Vec<Item<'db>> = Vec::new();
     for op in &g.operators {
-        let Some(d) = op.duration else { continue };
+        let Some(d) = op.duration() else { continue };
         if reported.contains(&op.op) || move_of(g, op, f.pred, c).is_some() {
             continue;
         }

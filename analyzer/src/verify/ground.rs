@@ -29,7 +29,7 @@ use std::ops::ControlFlow;
 
 use super::duration::{Compiler as DurationCompiler, DurationIssue, Env, Failure, IssueKind, Tally, Val};
 use super::instantiate::{
-    Arg, CAtom, Compiler, Facts, OpInput, Preds, Stop, fixpoint, instances_over, value,
+    Arg, CAtom, Compiler, Facts, Instances, OpInput, Preds, Stop, fixpoint, instances_over, value,
 };
 use super::lifted::{Duration, LTerm, OperatorKind, method_schema, operator};
 use super::relevance::{Goal as RelGoal, GoalAtom, RelOp};
@@ -81,20 +81,41 @@ pub struct GroundOperator<'db> {
     pub op: Item<'db>,
     /// Index of its [`Schema`] in [`Ground::schemas`].
     pub schema: u32,
-    /// The duration: 0 for an `:action`; `None` when it has no single value (a
-    /// task without duration, bounds only, a fluent that effects change, or
-    /// not evaluable, which is in [`Ground::duration_issues`]).
-    pub duration: Option<f64>,
+    /// The duration ([`GroundOperator::duration`]), NaN for none: a
+    /// duration is finite, and an `Option<f64>` would take 16 bytes.
+    duration: Duration64,
     /// Its duration is undefined in the problem (a fluent without value), or
     /// negative, or not a finite number: PDDL 2.1 never applies the instance.
     pub no_duration: bool,
     /// The operator has constructs outside the STRIPS view: the lists may
     /// miss atoms (see [`super::lifted::Operator::unsupported`]).
     pub unsupported: bool,
-    /// Start of its lists in [`Ground::lists`], and where each ends (relative):
-    /// arguments, pre, neg_pre, add, del.
+    /// Where its lists start in [`Ground::lists`], and where each ends
+    /// (relative): pre, neg_pre, add, del. Its arguments are just before,
+    /// as many as the schema has parameters ([`Schema::arity`]).
     at: u32,
-    ends: [u32; 5],
+    ends: [u32; 4],
+}
+
+impl GroundOperator<'_> {
+    /// The duration: 0 for an `:action`; `None` when it has no single value (a
+    /// task without duration, bounds only, a fluent that effects change, or
+    /// not evaluable, which is in [`Ground::duration_issues`]).
+    pub fn duration(&self) -> Option<f64> {
+        let d = self.duration.0;
+        (!d.is_nan()).then_some(d)
+    }
+}
+
+/// A duration or NaN, equal by its bits (so that a ground problem with
+/// operators without duration still equals itself, for backdating).
+#[derive(Debug, Clone, Copy)]
+struct Duration64(f64);
+
+impl PartialEq for Duration64 {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.to_bits() == other.0.to_bits()
+    }
 }
 
 /// An action or task of the domain and where its instances are.
@@ -103,6 +124,8 @@ pub struct Schema<'db> {
     pub item: Item<'db>,
     pub name: Str,
     pub kind: OperatorKind,
+    /// How many parameters it has: the arguments of each of its instances.
+    pub arity: u32,
     /// Its instances: `Ground::operators[start..end]`, sorted by arguments.
     pub start: u32,
     pub end: u32,
@@ -202,6 +225,7 @@ impl<'db> Ground<'db> {
             .map_or(&[], |s| &self.operators[s.start as usize..s.end as usize])
     }
 
+    /// List `k` of an instance: pre, neg_pre, add, del.
     fn list(&self, o: &GroundOperator<'db>, k: usize) -> &[u32] {
         let start = if k == 0 { 0 } else { o.ends[k - 1] };
         let (a, b) = (o.at as usize + start as usize, o.at as usize + o.ends[k] as usize);
@@ -210,27 +234,29 @@ impl<'db> Ground<'db> {
 
     /// The parameters' values of an instance, in declaration order.
     pub fn args(&self, o: &GroundOperator<'db>) -> &[ObjId] {
-        self.list(o, 0)
+        let arity = self.schemas.get(o.schema as usize).map_or(0, |s| s.arity as usize);
+        let at = o.at as usize;
+        self.lists.get(at.saturating_sub(arity)..at).unwrap_or(&[])
     }
 
     /// Positive preconditions on predicates that are not static (sorted, no duplicates).
     pub fn pre(&self, o: &GroundOperator<'db>) -> &[AtomId] {
-        self.list(o, 1)
+        self.list(o, 0)
     }
 
     /// Negative preconditions on predicates that are not static (sorted).
     pub fn neg_pre(&self, o: &GroundOperator<'db>) -> &[AtomId] {
-        self.list(o, 2)
+        self.list(o, 1)
     }
 
     /// Add effects (sorted).
     pub fn add(&self, o: &GroundOperator<'db>) -> &[AtomId] {
-        self.list(o, 3)
+        self.list(o, 2)
     }
 
     /// Delete effects (sorted).
     pub fn del(&self, o: &GroundOperator<'db>) -> &[AtomId] {
-        self.list(o, 4)
+        self.list(o, 3)
     }
 
     pub fn is_static(&self, pred: PredId) -> bool {
@@ -521,15 +547,13 @@ fn ground_with_mode<'db>(
     // Top-down grounding prunes the reachable actions afterwards: they may
     // be more than the limit before.
     let max_ops = if htn.is_some() { limits.operators.saturating_mul(4) } else { limits.operators };
-    let fix = fixpoint(&inputs, &mut g.atoms, &start, g.init.truth().to_vec(), &mut budget, max_ops);
+    let mut fix = fixpoint(&inputs, &mut g.atoms, &start, g.init.truth().to_vec(), &mut budget, max_ops);
     g.truncated = fix.truncated;
     g.tried = limits.candidates - budget;
 
-    let mut by_op: Vec<Vec<&[ObjId]>> = vec![Vec::new(); ops.len()];
-    for k in 0..fix.instances.len() {
-        let (i, args) = fix.instances.get(k);
-        by_op[i].push(args);
-    }
+    // The instances found, by operator: indices into `fix.instances` (4
+    // bytes each; a truncated grounding has 200,000 of them).
+    let mut by_op = InstancesByOp::new(&fix.instances, ops.len());
     let mut reached = None;
     let tdg_out = match &htn {
         Some((htn, methods)) if !fix.truncated => {
@@ -545,7 +569,7 @@ fn ground_with_mode<'db>(
                 ops: &ops,
                 pre: compiled.iter().map(|c| c.pre.as_slice()).collect(),
                 add: compiled.iter().map(|c| c.spec_add.add.as_slice()).collect(),
-                instances: std::mem::take(&mut by_op),
+                instances: by_op.slices(&fix.instances),
                 methods,
                 htn,
                 budget: limits.candidates.saturating_sub(g.tried),
@@ -560,9 +584,13 @@ fn ground_with_mode<'db>(
         }
         _ => None,
     };
+    // With top-down grounding, the instances it kept instead.
+    let mut kept_by_op: Option<Vec<Vec<&[ObjId]>>> = None;
     if let Some(out) = &tdg_out {
-        by_op = out.per_op.iter().map(|l| l.iter().map(|a| &a[..]).collect()).collect();
-        let kept: usize = by_op.iter().map(Vec::len).sum();
+        let lists: Vec<Vec<&[ObjId]>> =
+            out.per_op.iter().map(|l| l.iter().map(|a| &a[..]).collect()).collect();
+        let kept: usize = lists.iter().map(Vec::len).sum();
+        kept_by_op = Some(lists);
         g.truncated = out.truncated || kept > limits.operators;
         g.tried += out.tried;
         g.relevance = true;
@@ -584,26 +612,50 @@ fn ground_with_mode<'db>(
 
     // Their exact number, and at most this much for their lists: no
     // doubling past what is needed (a truncated grounding has 200,000).
-    let lists_len: usize = by_op
+    let count = |schema: usize| match &kept_by_op {
+        Some(lists) => lists[schema].len(),
+        None => by_op.of(schema).len(),
+    };
+    let lists_len: usize = compiled
         .iter()
-        .zip(&compiled)
-        .map(|(found, c)| {
+        .enumerate()
+        .map(|(schema, c)| {
             let per = c.spec_add.spec.domains().len()
                 + c.pre.len()
                 + c.neg.len()
                 + c.spec_add.add.len()
                 + c.del.len();
-            found.len() * per
+            count(schema) * per
         })
         .sum();
-    g.operators.reserve_exact(fix.instances.len());
+    let total: usize = (0..ops.len()).map(count).sum();
+    // The fixpoint's deduplication table and spare room are no longer
+    // needed: freed before the ground operators are built, the largest part
+    // of the peak.
+    fix.instances.forget_index();
+    g.operators.reserve_exact(total);
     g.lists.reserve_exact(lists_len);
     // Build the ground operators, schema by schema, instances sorted by arguments.
     let mut key = Vec::new();
-    for (schema, (((item, op), c), mut found)) in ops.iter().zip(&compiled).zip(by_op).enumerate() {
-        found.sort_unstable_by(|a, b| {
-            a.iter().zip(b.iter()).map(|(p, q)| p.cmp(q)).find(|o| o.is_ne()).unwrap_or(a.len().cmp(&b.len()))
-        });
+    let by_args = |a: &[ObjId], b: &[ObjId]| {
+        a.iter().zip(b.iter()).map(|(p, q)| p.cmp(q)).find(|o| o.is_ne()).unwrap_or(a.len().cmp(&b.len()))
+    };
+    for (schema, ((item, op), c)) in ops.iter().zip(&compiled).enumerate() {
+        let arity = c.spec_add.spec.domains().len();
+        let instances = &fix.instances;
+        let found: Box<dyn Iterator<Item = &[ObjId]>> = match &mut kept_by_op {
+            Some(lists) => {
+                let mut found = std::mem::take(&mut lists[schema]);
+                found.sort_unstable_by(|a, b| by_args(a, b));
+                Box::new(found.into_iter())
+            }
+            None => {
+                let indices = by_op.of_mut(schema);
+                let args = move |k: u32| instances.args_of(k as usize, arity);
+                indices.sort_unstable_by(|&a, &b| by_args(args(a), args(b)));
+                Box::new(indices.iter().map(move |&k| args(k)))
+            }
+        };
         let start = g.operators.len() as u32;
         let fixed = match (&op.duration, op.kind) {
             (Duration::None, OperatorKind::Action) => Some(0.0),
@@ -613,10 +665,15 @@ fn ground_with_mode<'db>(
         let Ground { atoms, init, objects, functions, operators, lists, .. } = &mut g;
         let env = Env { init, objects, funcs: functions };
         for args in found {
-            let at = lists.len();
+            // Every instance has one argument per parameter (the lists are
+            // read by the schema's arity).
+            debug_assert_eq!(args.len(), arity);
+            if args.len() != arity {
+                continue;
+            }
             lists.extend_from_slice(args);
-            let mut ends = [0u32; 5];
-            ends[0] = args.len() as u32;
+            let at = lists.len();
+            let mut ends = [0u32; 4];
             for (n, l) in [&c.pre, &c.neg, &c.spec_add.add, &c.del].into_iter().enumerate() {
                 let from = lists.len();
                 for a in l {
@@ -632,7 +689,7 @@ fn ground_with_mode<'db>(
                     }
                 }
                 lists.truncate(kept);
-                ends[n + 1] = (lists.len() - at) as u32;
+                ends[n] = (lists.len() - at) as u32;
             }
             let (duration, no_duration) = match &c.duration {
                 None => (fixed, false),
@@ -667,7 +724,7 @@ fn ground_with_mode<'db>(
             operators.push(GroundOperator {
                 op: *item,
                 schema: schema as u32,
-                duration,
+                duration: Duration64(duration.unwrap_or(f64::NAN)),
                 no_duration,
                 unsupported: c.unsupported,
                 at: at as u32,
@@ -679,6 +736,7 @@ fn ground_with_mode<'db>(
             item: *item,
             name: op.name.clone(),
             kind: op.kind,
+            arity: arity as u32,
             start,
             end: g.operators.len() as u32,
             wild_add: c.wild_add.clone(),
@@ -689,6 +747,54 @@ fn ground_with_mode<'db>(
     g.reachable = reached.unwrap_or(fix.reached);
     g.reachable.resize(g.atoms.len(), false);
     g
+}
+
+/// The instances of a fixpoint grouped by operator, each group in the order
+/// found: their indices in [`Instances`], one array for all.
+struct InstancesByOp {
+    /// Where each operator's group starts in `indices`, and where the last ends.
+    starts: Vec<usize>,
+    indices: Vec<u32>,
+}
+
+impl InstancesByOp {
+    fn new(instances: &Instances, ops: usize) -> InstancesByOp {
+        let mut starts = vec![0usize; ops + 1];
+        for k in 0..instances.len() {
+            let op = instances.get(k).0;
+            if op < ops {
+                starts[op + 1] += 1;
+            }
+        }
+        for i in 0..ops {
+            starts[i + 1] += starts[i];
+        }
+        let mut next = starts.clone();
+        let mut indices = vec![0u32; starts[ops]];
+        for k in 0..instances.len() {
+            let op = instances.get(k).0;
+            if op < ops {
+                indices[next[op]] = k as u32;
+                next[op] += 1;
+            }
+        }
+        InstancesByOp { starts, indices }
+    }
+
+    fn of(&self, op: usize) -> &[u32] {
+        &self.indices[self.starts[op]..self.starts[op + 1]]
+    }
+
+    fn of_mut(&mut self, op: usize) -> &mut [u32] {
+        &mut self.indices[self.starts[op]..self.starts[op + 1]]
+    }
+
+    /// Each operator's instances as their arguments.
+    fn slices<'a>(&self, instances: &'a Instances) -> Vec<Vec<&'a [ObjId]>> {
+        (0..self.starts.len() - 1)
+            .map(|op| self.of(op).iter().map(|&k| instances.get(k as usize).1).collect())
+            .collect()
+    }
 }
 
 /// The problem's `:htn` lifted, with the domain's methods, when the problem
@@ -1070,6 +1176,31 @@ mod tests {
     use crate::db::file_units;
     use crate::verify::reach::reachable;
 
+    /// A truncated grounding holds 200,000 instances: each is 48 bytes
+    /// (56 with an `Option<f64>` duration and the arity in every instance).
+    #[test]
+    fn ground_operators_stay_small() {
+        assert!(size_of::<GroundOperator<'_>>() <= 48, "{}", size_of::<GroundOperator<'_>>());
+    }
+
+    /// An operator without duration equals itself (NaN inside), so that a
+    /// ground problem compares equal to its copy.
+    #[test]
+    fn an_operator_without_duration_equals_itself() {
+        let dom = "(define (domain d) (:requirements :durative-actions)
+            (:predicates (p ?x) (q ?x))
+            (:durative-action a :parameters (?x) :duration (>= ?duration 1)
+              :condition (at start (p ?x)) :effect (at end (q ?x))))";
+        let prob = "(define (problem p) (:domain d) (:objects o1 o2) (:init (p o1) (p o2)) (:goal (q o1)))";
+        with_problem(dom, prob, |db, unit| {
+            let g = ground(db, unit);
+            assert_eq!(g.operators.len(), 2);
+            assert!(g.operators.iter().all(|o| o.duration().is_none()));
+            assert_eq!(g.args(&g.operators[1]).len(), 1);
+            assert!(g == &g.clone());
+        });
+    }
+
     /// A host with a domain and a problem; `f` gets the problem's unit.
     fn with_problem<T>(domain: &str, problem: &str, f: impl FnOnce(&dyn Db, Unit<'_>) -> T) -> T {
         let mut host = AnalysisHost::new();
@@ -1229,7 +1360,7 @@ mod tests {
         with_problem(DURATIONS, &p, |db, unit| {
             let g = ground(db, unit);
             let durations: Vec<(String, Option<f64>)> =
-                g.operators.iter().map(|o| (g.show_operator(o), o.duration)).collect();
+                g.operators.iter().map(|o| (g.show_operator(o), o.duration())).collect();
             let expected = [
                 ("(move r1 a b)", 15.0),
                 ("(move r1 b c)", 5.0),
@@ -1259,7 +1390,7 @@ mod tests {
             assert_eq!(issue.why, "`(distance b c)` has no value in `:init`");
             assert_eq!(issue.count, 2);
             assert_eq!(issue.fact, None);
-            let none: Vec<bool> = g.operators.iter().map(|o| o.duration.is_none()).collect();
+            let none: Vec<bool> = g.operators.iter().map(|o| o.duration().is_none()).collect();
             assert_eq!(none, [false, true, false, true]);
         });
     }
@@ -1272,7 +1403,7 @@ mod tests {
             let issue = &g.duration_issues[0];
             assert_eq!(issue.why, "`(/ (distance a b) (speed r1))` divides by zero (`(speed r1)` is 0)");
             assert!(issue.fact.is_some_and(|f| f.item.section(db) == Section::Init));
-            assert_eq!(g.operators[0].duration, None);
+            assert_eq!(g.operators[0].duration(), None);
         });
     }
 
@@ -1289,7 +1420,7 @@ mod tests {
         let p = "(define (problem p) (:domain n) (:init (= (rate) 2)))";
         with_problem(d, p, |db, unit| {
             let g = ground(db, unit);
-            let durations: Vec<Option<f64>> = g.operators.iter().map(|o| o.duration).collect();
+            let durations: Vec<Option<f64>> = g.operators.iter().map(|o| o.duration()).collect();
             assert_eq!(durations, [Some(0.0), None, None]);
             assert!(g.duration_issues.is_empty());
             assert!(g.dynamic_funcs[g.functions.get("fuel").unwrap() as usize]);

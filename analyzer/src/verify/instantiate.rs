@@ -712,6 +712,21 @@ impl Instances {
         self.found.len()
     }
 
+    /// Frees the deduplication table, and the spare room of the arrays
+    /// (grown by doubling): no instance is added any more.
+    pub fn forget_index(&mut self) {
+        self.by_hash = hashbrown::HashTable::new();
+        // Exact copies: the allocator may keep a block shrunk in place whole.
+        self.found = self.found.as_slice().to_vec();
+        self.args = self.args.as_slice().to_vec();
+    }
+
+    /// The arguments of instance `i`, whose operator has `arity` parameters.
+    pub fn args_of(&self, i: usize, arity: usize) -> &[ObjId] {
+        let at = self.found[i].1 as usize;
+        &self.args[at..at + arity]
+    }
+
     /// The operator and arguments of instance `i`.
     pub fn get(&self, i: usize) -> (usize, &[ObjId]) {
         let (op, at) = self.found[i];
