@@ -564,6 +564,26 @@ fn weighted_search_plans_rover_6() {
     assert_valid(&mut host, &problem, &result);
 }
 
+/// IPC 2020 Rover problem 1: no step is ever inserted in a purely
+/// hierarchical problem, so an open link that no step of the plan can
+/// support ends its plan. Chosen first, it ends it at once; chosen in
+/// `local` order, behind the links of newer steps, the search linked those
+/// every way before finding each plan dead (15,338 expansions; 5,548 with
+/// the dead link first, 2026-11-27).
+#[test]
+fn dead_links_first_plan_rover_1() {
+    let Some(corpora) = corpora() else {
+        eprintln!("skipped: no corpora (set HIPOP_CORPORA)");
+        return;
+    };
+    let dir = corpora.join("ipc2020-hddl/partial-order/Rover");
+    let (domain, problem) = (dir.join("domain.hddl"), dir.join("pfile01.hddl"));
+    let nodes = PlannerLimits { nodes: Some(8_000), first: true, ..limits(600) };
+    let (mut host, result) = plan(&domain, &problem, &Config::default(), &nodes);
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &problem, &result);
+}
+
 /// `:htn` parameters (every binding is a start) and method `:constraints`
 /// (they restrict the method's instances), as IPC 2020 domains use them.
 #[test]
