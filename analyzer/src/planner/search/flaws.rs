@@ -41,11 +41,11 @@ impl Search<'_, '_> {
         };
         // Open links that are not visits and that no unrefined abstract
         // step may still support.
-        let ready: Vec<usize> = (0..p.open.len())
-            .filter(|&i| !self.is_visit(&p.open[i]) && !self.deferred(p, &p.open[i]))
-            .collect();
+        let ready = self.ready_links(p);
         if !ready.is_empty() {
-            if let Some(i) = self.dead_link(p, &ready) {
+            if ready.len() > 1
+                && let Some(i) = self.dead_link(p, &ready)
+            {
                 return Some(Flaw::Open(i));
             }
             let pick = match self.config.flaws {
@@ -219,6 +219,12 @@ impl Search<'_, '_> {
         })
     }
 
+    /// The open links that are not visits and that no unrefined abstract
+    /// step may still support.
+    pub(super) fn ready_links(&self, p: &Plan) -> Vec<usize> {
+        (0..p.open.len()).filter(|&i| !self.is_visit(&p.open[i]) && !self.deferred(p, &p.open[i])).collect()
+    }
+
     /// In a problem where no step is ever inserted (no action in 𝒜: a
     /// purely hierarchical one), a ready open link that no step of the plan
     /// can support: the plan is dead, and choosing that link ends it at
@@ -226,7 +232,7 @@ impl Search<'_, '_> {
     /// steps with several producers each, and the search went through
     /// every way to link those first (a plan found dead at each leaf).
     pub(super) fn dead_link(&self, p: &Plan, ready: &[usize]) -> Option<usize> {
-        if !self.task.achievers.is_empty() || ready.len() < 2 {
+        if !self.task.achievers.is_empty() || ready.is_empty() {
             return None;
         }
         let index = super::resolvers::Effects::for_lits(self.task, p, ready.iter().map(|&i| p.open[i].lit));
@@ -451,7 +457,8 @@ mod tests {
     /// that nothing in its plan can support (only `full`'s `make-x` adds
     /// `x`, and no step is ever inserted), beside a `use-y` whose link has
     /// two producers and costs more. The dead link is chosen first, so the
-    /// plan ends at once instead of after every way to link `use-y`.
+    /// plan ends at once instead of after every way to link `use-y`; it
+    /// is not even scored.
     #[test]
     fn a_link_nothing_in_a_hierarchical_plan_can_support_is_chosen_first() {
         let domain = "(define (domain d) (:requirements :hierarchy)
@@ -492,6 +499,13 @@ mod tests {
                 let mut dead = Vec::new();
                 search.resolvers(&lean, Flaw::Open(i), &mut dead);
                 assert!(dead.is_empty(), "no step of the plan adds (x)");
+                // Nor does it enter the open list: scored dead when generated.
+                assert!(search.score(&mut lean).is_none());
+                let mut full = search.initial().remove(0);
+                let mut children = Vec::new();
+                search.resolvers(&full, Flaw::Abstract(0), &mut children);
+                full = children.into_iter().find(|c| method(c) == Some("full")).expect("refined by full");
+                assert!(search.score(&mut full).is_some(), "full makes its own (x)");
             })
             .expect("not cancelled");
     }
