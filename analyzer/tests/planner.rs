@@ -565,14 +565,13 @@ fn weighted_search_plans_rover_6() {
 }
 
 /// IPC 2020 Rover problem 1: no step is ever inserted in a purely
-/// hierarchical problem, so an open link that no step of the plan can
-/// support ends its plan. Chosen first, it ends it at once; chosen in
-/// `local` order, behind the links of newer steps, the search linked those
-/// every way before finding each plan dead (15,338 expansions; 5,548 with
-/// the dead link first, 2,050 with such plans dropped as they are
-/// generated, 2026-11-27).
+/// hierarchical problem, so a plan with an open link that no step of it can
+/// support is dead, and is dropped when generated. Left in the open list
+/// until `local` order chose that link, behind the links of newer steps,
+/// such plans were linked every way first (15,338 expansions; 5,548 with
+/// the dead link chosen first, 2,050 with the plans dropped, 2026-11-27).
 #[test]
-fn dead_links_first_plan_rover_1() {
+fn dead_hierarchical_plans_are_dropped_rover_1() {
     let Some(corpora) = corpora() else {
         eprintln!("skipped: no corpora (set HIPOP_CORPORA)");
         return;

@@ -43,11 +43,6 @@ impl Search<'_, '_> {
         // step may still support.
         let ready = self.ready_links(p);
         if !ready.is_empty() {
-            if ready.len() > 1
-                && let Some(i) = self.dead_link(p, &ready)
-            {
-                return Some(Flaw::Open(i));
-            }
             let pick = match self.config.flaws {
                 FlawOrder::ThreatFirst => *ready.last().expect("non-empty"),
                 FlawOrder::Sorted => self.costliest(p, ready.iter().copied()),
@@ -227,10 +222,11 @@ impl Search<'_, '_> {
 
     /// In a problem where no step is ever inserted (no action in 𝒜: a
     /// purely hierarchical one), a ready open link that no step of the plan
-    /// can support: the plan is dead, and choosing that link ends it at
-    /// once. Chosen by `local` order, it could wait behind links of newer
-    /// steps with several producers each, and the search went through
-    /// every way to link those first (a plan found dead at each leaf).
+    /// can support: the plan is dead, and is dropped when generated
+    /// ([`Search::score`]). Left in the open list, such a plan waited until
+    /// `local` order chose that link, behind the links of newer steps with
+    /// several producers each, and the search went through every way to
+    /// link those first (a plan found dead at each leaf).
     pub(super) fn dead_link(&self, p: &Plan, ready: &[usize]) -> Option<usize> {
         if !self.task.achievers.is_empty() || ready.is_empty() {
             return None;
@@ -456,11 +452,10 @@ mod tests {
     /// A purely hierarchical problem: `lean` refines `job` into a `use-x`
     /// that nothing in its plan can support (only `full`'s `make-x` adds
     /// `x`, and no step is ever inserted), beside a `use-y` whose link has
-    /// two producers and costs more. The dead link is chosen first, so the
-    /// plan ends at once instead of after every way to link `use-y`; it
-    /// is not even scored.
+    /// two producers and costs more. The plan is dropped when scored, not
+    /// left to end after every way to link `use-y`.
     #[test]
-    fn a_link_nothing_in_a_hierarchical_plan_can_support_is_chosen_first() {
+    fn a_hierarchical_plan_with_a_link_nothing_can_support_is_dropped() {
         let domain = "(define (domain d) (:requirements :hierarchy)
           (:predicates (x) (y) (w))
           (:task job :parameters ())
@@ -494,12 +489,13 @@ mod tests {
                     |p: &Plan| p.steps.iter().find_map(|s| s.method).map(|m| &*task.methods[m as usize].name);
                 let mut lean =
                     children.into_iter().find(|c| method(c) == Some("lean")).expect("refined by lean");
-                let Some(Flaw::Open(i)) = search.select(&mut lean) else { panic!("an open link next") };
-                assert_eq!(task.show_lit(lean.open[i].lit), "(x)");
-                let mut dead = Vec::new();
-                search.resolvers(&lean, Flaw::Open(i), &mut dead);
-                assert!(dead.is_empty(), "no step of the plan adds (x)");
-                // Nor does it enter the open list: scored dead when generated.
+                let ready = search.ready_links(&lean);
+                let dead = search.dead_link(&lean, &ready).expect("a dead link");
+                assert_eq!(task.show_lit(lean.open[dead].lit), "(x)");
+                let mut none = Vec::new();
+                search.resolvers(&lean, Flaw::Open(dead), &mut none);
+                assert!(none.is_empty(), "no step of the plan adds (x)");
+                // The plan never enters the open list: dead when scored.
                 assert!(search.score(&mut lean).is_none());
                 let mut full = search.initial().remove(0);
                 let mut children = Vec::new();
