@@ -582,6 +582,26 @@ fn weighted_search_plans_rover_6() {
     assert_valid(&mut host, &problem, &result);
 }
 
+/// IPC 2020 Rover problem 1: no step is ever inserted in a purely
+/// hierarchical problem, so a plan with an open link that no step of it can
+/// support is dead, and is dropped when generated. Left in the open list
+/// until `local` order chose that link, behind the links of newer steps,
+/// such plans were linked every way first (15,338 expansions; 5,548 with
+/// the dead link chosen first, 2,050 with the plans dropped, 2026-11-27).
+#[test]
+fn dead_hierarchical_plans_are_dropped_rover_1() {
+    let Some(corpora) = corpora() else {
+        eprintln!("skipped: no corpora (set HIPOP_CORPORA)");
+        return;
+    };
+    let dir = corpora.join("ipc2020-hddl/partial-order/Rover");
+    let (domain, problem) = (dir.join("domain.hddl"), dir.join("pfile01.hddl"));
+    let nodes = PlannerLimits { nodes: Some(8_000), first: true, ..limits(600) };
+    let (mut host, result) = plan(&domain, &problem, &Config::default(), &nodes);
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &problem, &result);
+}
+
 /// `:htn` parameters (every binding is a start) and method `:constraints`
 /// (they restrict the method's instances), as IPC 2020 domains use them.
 #[test]

@@ -8,7 +8,7 @@
 
 use super::super::FlawOrder;
 use super::super::numeric;
-use super::super::plan::{Kind, Open, Plan, Threat};
+use super::super::plan::{Kind, Open, OpenOrigin, Plan, Threat};
 use super::super::stn::{EPS, Tp};
 use super::super::task::atom_of;
 use super::{Flaw, Search};
@@ -41,9 +41,7 @@ impl Search<'_, '_> {
         };
         // Open links that are not visits and that no unrefined abstract
         // step may still support.
-        let ready: Vec<usize> = (0..p.open.len())
-            .filter(|&i| !self.is_visit(&p.open[i]) && !self.deferred(p, &p.open[i]))
-            .collect();
+        let ready = self.ready_links(p);
         if !ready.is_empty() {
             let pick = match self.config.flaws {
                 FlawOrder::ThreatFirst => *ready.last().expect("non-empty"),
@@ -213,6 +211,35 @@ impl Search<'_, '_> {
                 && !p.descends(o.step, a)
                 && !p.stn.before(o.need, st.start)
                 && self.h.may_add(op, o.lit)
+        })
+    }
+
+    /// The open links that are not visits and that no unrefined abstract
+    /// step may still support.
+    pub(super) fn ready_links(&self, p: &Plan) -> Vec<usize> {
+        (0..p.open.len()).filter(|&i| !self.is_visit(&p.open[i]) && !self.deferred(p, &p.open[i])).collect()
+    }
+
+    /// In a problem where no step is ever inserted (no action in 𝒜: a
+    /// purely hierarchical one), a ready open link that no step of the plan
+    /// can support: the plan is dead, and is dropped when generated
+    /// ([`Search::score`]). Left in the open list, such a plan waited until
+    /// `local` order chose that link, behind the links of newer steps with
+    /// several producers each, and the search went through every way to
+    /// link those first (a plan found dead at each leaf).
+    pub(super) fn dead_link(&self, p: &Plan, ready: &[usize]) -> Option<usize> {
+        if !self.task.achievers.is_empty() || ready.is_empty() {
+            return None;
+        }
+        let index = super::resolvers::Effects::for_lits(self.task, p, ready.iter().map(|&i| p.open[i].lit));
+        let mut prod = Vec::new();
+        ready.iter().copied().find(|&i| {
+            let o = p.open[i];
+            self.producers_indexed(p, &o, &index, &mut prod);
+            if o.origin == OpenOrigin::AbstractEffect {
+                prod.retain(|&(s, _)| s != o.step && p.descends(s, o.step));
+            }
+            prod.is_empty()
         })
     }
 
@@ -420,6 +447,63 @@ mod tests {
                 })
                 .collect()
         })
+    }
+
+    /// A purely hierarchical problem: `lean` refines `job` into a `use-x`
+    /// that nothing in its plan can support (only `full`'s `make-x` adds
+    /// `x`, and no step is ever inserted), beside a `use-y` whose link has
+    /// two producers and costs more. The plan is dropped when scored, not
+    /// left to end after every way to link `use-y`.
+    #[test]
+    fn a_hierarchical_plan_with_a_link_nothing_can_support_is_dropped() {
+        let domain = "(define (domain d) (:requirements :hierarchy)
+          (:predicates (x) (y) (w))
+          (:task job :parameters ())
+          (:method lean :parameters () :task (job)
+            :subtasks (and (use-x) (make-w) (make-y-a) (make-y-b) (use-y)))
+          (:method full :parameters () :task (job)
+            :ordered-subtasks (and (make-x) (use-x) (make-w) (make-y-a) (use-y)))
+          (:action make-x :parameters () :effect (x))
+          (:action make-w :parameters () :effect (w))
+          (:action make-y-a :parameters () :precondition (w) :effect (y))
+          (:action make-y-b :parameters () :precondition (w) :effect (y))
+          (:action use-x :parameters () :precondition (x) :effect ())
+          (:action use-y :parameters () :precondition (y) :effect ()))";
+        let problem = "(define (problem p) (:domain d) (:htn :subtasks (and (job))) (:init))";
+        let mut host = AnalysisHost::new();
+        host.set_file_text("domain.hddl", domain);
+        let pf = host.set_file_text("problem.hddl", problem);
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::host::first_problem(db, pf).expect("a problem");
+                let config = Config::default();
+                let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
+                let (task, search) = (&prepared.task, Search::new(&prepared.task, &prepared.h, &config));
+                let mut roots = search.initial();
+                assert_eq!(roots.len(), 1);
+                let flaw = search.select(&mut roots[0]).expect("a flaw");
+                assert!(matches!(flaw, Flaw::Abstract(_)), "the job is refined first");
+                let mut children = Vec::new();
+                search.resolvers(&roots[0], flaw, &mut children);
+                let method =
+                    |p: &Plan| p.steps.iter().find_map(|s| s.method).map(|m| &*task.methods[m as usize].name);
+                let mut lean =
+                    children.into_iter().find(|c| method(c) == Some("lean")).expect("refined by lean");
+                let ready = search.ready_links(&lean);
+                let dead = search.dead_link(&lean, &ready).expect("a dead link");
+                assert_eq!(task.show_lit(lean.open[dead].lit), "(x)");
+                let mut none = Vec::new();
+                search.resolvers(&lean, Flaw::Open(dead), &mut none);
+                assert!(none.is_empty(), "no step of the plan adds (x)");
+                // The plan never enters the open list: dead when scored.
+                assert!(search.score(&mut lean).is_none());
+                let mut full = search.initial().remove(0);
+                let mut children = Vec::new();
+                search.resolvers(&full, Flaw::Abstract(0), &mut children);
+                full = children.into_iter().find(|c| method(c) == Some("full")).expect("refined by full");
+                assert!(search.score(&mut full).is_some(), "full makes its own (x)");
+            })
+            .expect("not cancelled");
     }
 
     #[test]

@@ -245,6 +245,13 @@ impl<'a, 'db> Search<'a, 'db> {
     /// the plan shortens (steps and orderings are only added).
     fn score(&self, plan: &mut Plan) -> Option<(f64, f64, f64, f64)> {
         let penalty = self.settle(plan)?;
+        if self.task.achievers.is_empty() {
+            // No step is ever inserted: a link no step can support is dead.
+            let ready = self.ready_links(plan);
+            if self.dead_link(plan, &ready).is_some() {
+                return None;
+            }
+        }
         let (h, effort) = self.estimate(plan);
         let (busiest, total) = self.work(plan);
         let span = plan.makespan();

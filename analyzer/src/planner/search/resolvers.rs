@@ -503,9 +503,28 @@ pub(super) struct Effects {
 
 impl Effects {
     pub(super) fn new(task: &Task<'_>, p: &Plan) -> Effects {
+        Effects::indexing(task, p, |_| true)
+    }
+
+    /// The index of the effects on `lits` and on the position groups of
+    /// their atoms only: enough for the producers of open links on `lits`.
+    pub(super) fn for_lits(task: &Task<'_>, p: &Plan, lits: impl Iterator<Item = Lit>) -> Effects {
+        let group = |l: Lit| if is_neg(l) { None } else { task.family[atom_of(l) as usize].map(|(g, _)| g) };
+        let (mut wanted, mut groups) = (rustc_hash::FxHashSet::default(), rustc_hash::FxHashSet::default());
+        for l in lits {
+            wanted.insert(l);
+            groups.extend(group(l));
+        }
+        Effects::indexing(task, p, |l| wanted.contains(&l) || group(l).is_some_and(|g| groups.contains(&g)))
+    }
+
+    fn indexing(task: &Task<'_>, p: &Plan, keep: impl Fn(Lit) -> bool) -> Effects {
         let mut out = Effects { by_lit: Default::default(), by_group: Default::default() };
         for s in 0..p.steps.len() as u32 {
             for (l, tp) in p.effects(task, s) {
+                if !keep(l) {
+                    continue;
+                }
                 out.by_lit.entry(l).or_default().push((s, l, tp));
                 if !is_neg(l)
                     && let Some((g, _)) = task.family[atom_of(l) as usize]
