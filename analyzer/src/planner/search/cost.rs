@@ -238,9 +238,7 @@ impl EffectIndex {
 
 #[cfg(test)]
 mod tests {
-    use super::super::super::{Config, PlannerLimits, prepare};
     use super::*;
-    use crate::AnalysisHost;
 
     /// One token: `spend-a` and `spend-b` each need it at their start and
     /// use it up at their end; `mint` makes one (5 time units).
@@ -258,33 +256,24 @@ mod tests {
     /// `spend-a` is ordered before it, and in one where `spend-b` is first.
     fn token_costs() -> (f64, f64, f64) {
         let problem = "(define (problem p) (:domain token) (:init (token)) (:goal (and (a) (b))))";
-        let mut host = AnalysisHost::new();
-        host.set_file_text("domain.pddl", DOMAIN);
-        let pf = host.set_file_text("problem.pddl", problem);
-        host.analysis()
-            .with_db(|db| {
-                let unit = crate::host::first_problem(db, pf).expect("a problem");
-                let config = Config::default();
-                let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
-                let (task, h) = (&prepared.task, &prepared.h);
-                let search = Search::new(task, h, &config);
-                let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
-                let token = task.ops[op("mint") as usize].effs[0].lit;
-                let cost_of_b = |a_first: bool| {
-                    let mut p = Plan::initial(task).expect("a plan");
-                    let a = p.add_step(task, h, op("spend-a"), None).expect("added");
-                    let b = p.add_step(task, h, op("spend-b"), None).expect("added");
-                    let (a, b) = (p.steps[a as usize], p.steps[b as usize]);
-                    let ordered =
-                        if a_first { p.stn.add(a.end, b.start, EPS) } else { p.stn.add(b.end, a.start, EPS) };
-                    assert!(ordered);
-                    let o = *p.open.iter().find(|o| o.need == b.start && o.lit == token).expect("b's link");
-                    let index = EffectIndex::new(task, &p, [token, token ^ 1].into_iter());
-                    search.open_cost(&p, &o, &index).0
-                };
-                (cost_of_b(true), cost_of_b(false), h.again_cost[token as usize])
-            })
-            .expect("not cancelled")
+        super::super::with_search(("domain.pddl", "problem.pddl"), DOMAIN, problem, |prepared, search| {
+            let (task, h) = (&prepared.task, &prepared.h);
+            let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
+            let token = task.ops[op("mint") as usize].effs[0].lit;
+            let cost_of_b = |a_first: bool| {
+                let mut p = Plan::initial(task).expect("a plan");
+                let a = p.add_step(task, h, op("spend-a"), None).expect("added");
+                let b = p.add_step(task, h, op("spend-b"), None).expect("added");
+                let (a, b) = (p.steps[a as usize], p.steps[b as usize]);
+                let ordered =
+                    if a_first { p.stn.add(a.end, b.start, EPS) } else { p.stn.add(b.end, a.start, EPS) };
+                assert!(ordered);
+                let o = *p.open.iter().find(|o| o.need == b.start && o.lit == token).expect("b's link");
+                let index = EffectIndex::new(task, &p, [token, token ^ 1].into_iter());
+                search.open_cost(&p, &o, &index).0
+            };
+            (cost_of_b(true), cost_of_b(false), h.again_cost[token as usize])
+        })
     }
 
     /// Advance reuse (Equation 1) counts a link free when a producer can
