@@ -256,24 +256,29 @@ mod tests {
     /// `spend-a` is ordered before it, and in one where `spend-b` is first.
     fn token_costs() -> (f64, f64, f64) {
         let problem = "(define (problem p) (:domain token) (:init (token)) (:goal (and (a) (b))))";
-        super::super::with_search(("domain.pddl", "problem.pddl"), DOMAIN, problem, |prepared, search| {
-            let (task, h) = (&prepared.task, &prepared.h);
-            let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
-            let token = task.ops[op("mint") as usize].effs[0].lit;
-            let cost_of_b = |a_first: bool| {
-                let mut p = Plan::initial(task).expect("a plan");
-                let a = p.add_step(task, h, op("spend-a"), None).expect("added");
-                let b = p.add_step(task, h, op("spend-b"), None).expect("added");
-                let (a, b) = (p.steps[a as usize], p.steps[b as usize]);
-                let ordered =
-                    if a_first { p.stn.add(a.end, b.start, EPS) } else { p.stn.add(b.end, a.start, EPS) };
-                assert!(ordered);
-                let o = *p.open.iter().find(|o| o.need == b.start && o.lit == token).expect("b's link");
-                let index = EffectIndex::new(task, &p, [token, token ^ 1].into_iter());
-                search.open_cost(&p, &o, &index).0
-            };
-            (cost_of_b(true), cost_of_b(false), h.again_cost[token as usize])
-        })
+        super::super::test_support::with_search(
+            ("domain.pddl", "problem.pddl"),
+            DOMAIN,
+            problem,
+            |prepared, search| {
+                let (task, h) = (&prepared.task, &prepared.h);
+                let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an op") as u32;
+                let token = task.ops[op("mint") as usize].effs[0].lit;
+                let cost_of_b = |a_first: bool| {
+                    let mut p = Plan::initial(task).expect("a plan");
+                    let a = p.add_step(task, h, op("spend-a"), None).expect("added");
+                    let b = p.add_step(task, h, op("spend-b"), None).expect("added");
+                    let (a, b) = (p.steps[a as usize], p.steps[b as usize]);
+                    let ordered =
+                        if a_first { p.stn.add(a.end, b.start, EPS) } else { p.stn.add(b.end, a.start, EPS) };
+                    assert!(ordered);
+                    let o = *p.open.iter().find(|o| o.need == b.start && o.lit == token).expect("b's link");
+                    let index = EffectIndex::new(task, &p, [token, token ^ 1].into_iter());
+                    search.open_cost(&p, &o, &index).0
+                };
+                (cost_of_b(true), cost_of_b(false), h.again_cost[token as usize])
+            },
+        )
     }
 
     /// Advance reuse (Equation 1) counts a link free when a producer can

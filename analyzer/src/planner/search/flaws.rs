@@ -358,7 +358,7 @@ mod tests {
         let problem = format!(
             "(define (problem p) (:domain tank) (:init (= (fuel) {fuel})) (:goal (and (burnt) (checked))))"
         );
-        super::super::with_search(("domain.pddl", "problem.pddl"), DOMAIN, &problem, f)
+        super::super::test_support::with_search(("domain.pddl", "problem.pddl"), DOMAIN, &problem, f)
     }
 
     /// A duration that reads the fuel is fixed once the fuel at its start
@@ -458,31 +458,37 @@ mod tests {
           (:action use-x :parameters () :precondition (x) :effect ())
           (:action use-y :parameters () :precondition (y) :effect ()))";
         let problem = "(define (problem p) (:domain d) (:htn :subtasks (and (job))) (:init))";
-        super::super::with_search(("domain.hddl", "problem.hddl"), domain, problem, |prepared, search| {
-            let task = &prepared.task;
-            let mut roots = search.initial();
-            assert_eq!(roots.len(), 1);
-            let flaw = search.select(&mut roots[0]).expect("a flaw");
-            assert!(matches!(flaw, Flaw::Abstract(_)), "the job is refined first");
-            let mut children = Vec::new();
-            search.resolvers(&roots[0], flaw, &mut children);
-            let method =
-                |p: &Plan| p.steps.iter().find_map(|s| s.method).map(|m| &*task.methods[m as usize].name);
-            let mut lean = children.into_iter().find(|c| method(c) == Some("lean")).expect("refined by lean");
-            let ready = search.ready_links(&lean);
-            let dead = search.dead_link(&lean, &ready).expect("a dead link");
-            assert_eq!(task.show_lit(lean.open[dead].lit), "(x)");
-            let mut none = Vec::new();
-            search.resolvers(&lean, Flaw::Open(dead), &mut none);
-            assert!(none.is_empty(), "no step of the plan adds (x)");
-            // The plan never enters the open list: dead when scored.
-            assert!(search.score(&mut lean).is_none());
-            let mut full = search.initial().remove(0);
-            let mut children = Vec::new();
-            search.resolvers(&full, Flaw::Abstract(0), &mut children);
-            full = children.into_iter().find(|c| method(c) == Some("full")).expect("refined by full");
-            assert!(search.score(&mut full).is_some(), "full makes its own (x)");
-        });
+        super::super::test_support::with_search(
+            ("domain.hddl", "problem.hddl"),
+            domain,
+            problem,
+            |prepared, search| {
+                let task = &prepared.task;
+                let mut roots = search.initial();
+                assert_eq!(roots.len(), 1);
+                let flaw = search.select(&mut roots[0]).expect("a flaw");
+                assert!(matches!(flaw, Flaw::Abstract(_)), "the job is refined first");
+                let mut children = Vec::new();
+                search.resolvers(&roots[0], flaw, &mut children);
+                let method =
+                    |p: &Plan| p.steps.iter().find_map(|s| s.method).map(|m| &*task.methods[m as usize].name);
+                let mut lean =
+                    children.into_iter().find(|c| method(c) == Some("lean")).expect("refined by lean");
+                let ready = search.ready_links(&lean);
+                let dead = search.dead_link(&lean, &ready).expect("a dead link");
+                assert_eq!(task.show_lit(lean.open[dead].lit), "(x)");
+                let mut none = Vec::new();
+                search.resolvers(&lean, Flaw::Open(dead), &mut none);
+                assert!(none.is_empty(), "no step of the plan adds (x)");
+                // The plan never enters the open list: dead when scored.
+                assert!(search.score(&mut lean).is_none());
+                let mut full = search.initial().remove(0);
+                let mut children = Vec::new();
+                search.resolvers(&full, Flaw::Abstract(0), &mut children);
+                full = children.into_iter().find(|c| method(c) == Some("full")).expect("refined by full");
+                assert!(search.score(&mut full).is_some(), "full makes its own (x)");
+            },
+        );
     }
 
     #[test]

@@ -213,31 +213,6 @@ enum Flaw {
     Dead,
 }
 
-/// Test support: prepares the problem `problem` of the domain `domain`
-/// (files named by `names`) and runs `f` on it with a search of it under
-/// the default configuration.
-#[cfg(test)]
-fn with_search<T>(
-    names: (&str, &str),
-    domain: &str,
-    problem: &str,
-    f: impl FnOnce(&super::Prepared<'_>, &Search<'_, '_>) -> T + std::panic::UnwindSafe,
-) -> T {
-    let mut host = crate::AnalysisHost::new();
-    host.set_file_text(names.0, domain);
-    let pf = host.set_file_text(names.1, problem);
-    host.analysis()
-        .with_db(|db| {
-            let unit = crate::host::first_problem(db, pf).expect("a problem");
-            let config = Config::default();
-            let prepared =
-                super::prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
-            let search = Search::new(&prepared.task, &prepared.h, &config);
-            f(&prepared, &search)
-        })
-        .expect("not cancelled")
-}
-
 pub struct Search<'a, 'db> {
     pub task: &'a Task<'db>,
     pub h: &'a Heuristic,
@@ -638,4 +613,34 @@ impl Scored {
 fn approx_plan_bytes(p: &Plan) -> usize {
     let spine = (p.steps.len() + p.links.len() + 3 * p.stn.len()) / super::pvec::CHUNK * 8;
     spine + 4 * 1024 + (p.open.len() + p.threats.len()) * 32
+}
+
+/// Test support for the unit tests of this module's files.
+#[cfg(test)]
+mod test_support {
+    use super::super::{Prepared, prepare};
+    use super::{Config, PlannerLimits, Search};
+
+    /// Prepares the problem `problem` of the domain `domain`
+    /// (files named by `names`) and runs `f` on it with a search of it under
+    /// the default configuration.
+    pub(super) fn with_search<T>(
+        names: (&str, &str),
+        domain: &str,
+        problem: &str,
+        f: impl FnOnce(&Prepared<'_>, &Search<'_, '_>) -> T + std::panic::UnwindSafe,
+    ) -> T {
+        let mut host = crate::AnalysisHost::new();
+        host.set_file_text(names.0, domain);
+        let pf = host.set_file_text(names.1, problem);
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::host::first_problem(db, pf).expect("a problem");
+                let config = Config::default();
+                let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
+                let search = Search::new(&prepared.task, &prepared.h, &config);
+                f(&prepared, &search)
+            })
+            .expect("not cancelled")
+    }
 }
