@@ -711,14 +711,18 @@ mod tests {
             let (p, removed) = search.without_redundant_steps(p, &|| stop);
             (output::solved(db, task, &p).to_val(""), removed.steps)
         });
-        let f = host.set_file_text("plan.plan", text.as_str());
-        let v = host
-            .analysis()
-            .validate_plan(f, None, pf, &Default::default())
-            .expect("not cancelled")
-            .expect("validated");
+        let v = validated(&mut host, pf, &text);
         let valid = v.valid && v.checked && v.diagnostics.iter().all(|d| d.code.id != "W0411");
         (text, removed, valid)
+    }
+
+    /// `text`, as a plan of the problem in `pf`, validated.
+    fn validated(host: &mut AnalysisHost, pf: crate::SourceFile, text: &str) -> crate::validate::Validation {
+        let f = host.set_file_text("plan.plan", text);
+        host.analysis()
+            .validate_plan(f, None, pf, &Default::default())
+            .expect("not cancelled")
+            .expect("validated")
     }
 
     /// The plan of `steps` (an operator's name, or its instance as
@@ -947,12 +951,7 @@ mod tests {
         let mut got = names(&text);
         got.sort();
         assert_eq!(got, ["move a b", "move b c", "recharge"], "{text}");
-        let f = host.set_file_text("plan.plan", text.as_str());
-        let v = host
-            .analysis()
-            .validate_plan(f, None, pf, &Default::default())
-            .expect("not cancelled")
-            .expect("validated");
+        let v = validated(&mut host, pf, &text);
         assert!(v.valid && v.checked, "{text}\n{:?}", v.diagnostics);
     }
 }
