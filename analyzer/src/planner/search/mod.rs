@@ -222,6 +222,9 @@ pub struct Search<'a, 'db> {
     geo: Option<Geo>,
     /// Method instances not tried because they only go round a loop.
     loops: std::cell::Cell<u64>,
+    /// When the time limit falls, while [`Search::run`] runs: an expansion
+    /// stops making children past it ([`Search::past_limit`]).
+    until: std::cell::Cell<Option<Instant>>,
 }
 
 /// How a search ended.
@@ -235,7 +238,17 @@ impl<'a, 'db> Search<'a, 'db> {
     pub fn new(task: &'a Task<'db>, h: &'a Heuristic, config: &'a Config) -> Self {
         let has_motion = config.motion != Motion::Off && task.motion.iter().any(|m| m.is_some());
         let geo = has_motion.then(|| Geo::new(task, h));
-        Search { task, h, config, geo, loops: Default::default() }
+        Search { task, h, config, geo, loops: Default::default(), until: Default::default() }
+    }
+
+    /// Whether the time limit of the running search has passed. One
+    /// expansion of a plan of a hundred steps on a large task makes
+    /// hundreds of children, each with its own temporal network and
+    /// estimate (a tenth of a second and more, longer on a loaded
+    /// machine): past the limit, it stops making them, and the search
+    /// stops at its next look at the clock.
+    pub(super) fn past_limit(&self) -> bool {
+        self.until.get().is_some_and(|t| Instant::now() >= t)
     }
 
     /// `g`, `h` and the effort of a plan about to enter the open list,
@@ -295,6 +308,9 @@ impl<'a, 'db> Search<'a, 'db> {
         self.resolvers(p, flaw, &mut children);
         let mut out = Vec::with_capacity(children.len());
         for mut c in children {
+            if self.past_limit() {
+                break;
+            }
             let added = if linking { c.steps.len() - p.steps.len() } else { 0 };
             match self.score(&mut c) {
                 Some((g, h, effort, span)) => {
@@ -311,6 +327,11 @@ impl<'a, 'db> Search<'a, 'db> {
     /// [`Scored::probe_order`]) that backtracks, within `budget` expansions
     /// and through plans of at most `max_steps` steps.
     /// A plan it finds has no flaw, like one A* would return.
+    /// Stopped by `deadline` when the process exits next (`free` off), the
+    /// plans still waiting at every depth are left unfreed, like the open
+    /// lists: freeing thousands of plans of a hundred steps took longer
+    /// than the margin of the time limit.
+    #[allow(clippy::too_many_arguments)]
     fn probe(
         &self,
         first: Vec<Plan>,
@@ -319,6 +340,7 @@ impl<'a, 'db> Search<'a, 'db> {
         admits: &dyn Fn(f64) -> bool,
         stats: &mut Stats,
         deadline: &dyn Fn() -> bool,
+        free: bool,
     ) -> Option<Plan> {
         let mut stack: Vec<std::vec::IntoIter<Plan>> = vec![first.into_iter()];
         let mut spent = 0u64;
@@ -335,7 +357,13 @@ impl<'a, 'db> Search<'a, 'db> {
             spent += 1;
             stats.expanded += 1;
             stats.largest = stats.largest.max(p.steps.len());
-            if spent > budget || deadline() {
+            if spent > budget {
+                return None;
+            }
+            if deadline() {
+                if !free {
+                    std::mem::forget(stack);
+                }
                 return None;
             }
             let Some(flaw) = self.select(&mut p) else {
@@ -378,6 +406,24 @@ impl<'a, 'db> Search<'a, 'db> {
     /// better are dropped), until no plan left in the open list can do
     /// better or a limit is reached, and returns the best.
     pub fn run(
+        &self,
+        roots: Vec<Plan>,
+        limits: &PlannerLimits,
+        cancel: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&Progress),
+        stats: &mut Stats,
+        best: &mut Option<Plan>,
+    ) -> End2 {
+        // Expansions stop making children at the limit only while the
+        // search runs: the report of the best partial plan after it, which
+        // asks for resolvers too, gets them all.
+        self.until.set(limits.time.map(|t| Instant::now() + t.saturating_sub(limits.time_spent)));
+        let end = self.run_until(roots, limits, cancel, progress, stats, best);
+        self.until.set(None);
+        end
+    }
+
+    fn run_until(
         &self,
         roots: Vec<Plan>,
         limits: &PlannerLimits,
@@ -566,7 +612,8 @@ impl<'a, 'db> Search<'a, 'db> {
                 let mut first: Vec<&Scored> = scored.iter().collect();
                 first.sort_by(|a, b| Scored::probe_order(a, b));
                 let first = first.into_iter().map(|s| s.plan.clone()).collect();
-                if let Some(plan) = self.probe(first, budget, max_steps, &admits, stats, &time_up)
+                if let Some(plan) =
+                    self.probe(first, budget, max_steps, &admits, stats, &time_up, !limits.exits_after)
                     && let Some(end) = found(plan, stats, &mut incumbent, &mut heap, progress)
                 {
                     return end;

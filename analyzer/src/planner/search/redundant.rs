@@ -274,7 +274,7 @@ impl Search<'_, '_> {
             Some(_) => {
                 let mut stats = Stats::default();
                 let done =
-                    self.probe(vec![c], 64 + 4 * size as u64, size, &|_| true, &mut stats, &|| false)?;
+                    self.probe(vec![c], 64 + 4 * size as u64, size, &|_| true, &mut stats, &|| false, true)?;
                 if done.steps.len() != size {
                     return None;
                 }
@@ -779,7 +779,7 @@ mod tests {
                     let size = p.steps.len();
                     let mut stats = crate::planner::Stats::default();
                     p = search
-                        .probe(vec![p], 64, size, &|_| true, &mut stats, &|| false)
+                        .probe(vec![p], 64, size, &|_| true, &mut stats, &|| false, true)
                         .expect("the plan given is complete");
                     assert_eq!(p.steps.len(), size, "the plan given is complete");
                 }

@@ -392,6 +392,9 @@ impl Search<'_, '_> {
             prod.retain(|&(s, _)| s != o.step && p.descends(s, o.step));
         }
         for &(s, tp) in &prod {
+            if self.past_limit() {
+                return;
+            }
             let mut c = base.clone();
             if c.add_link(self.task, s, tp, &o) {
                 out.push(c);
@@ -404,6 +407,9 @@ impl Search<'_, '_> {
         let position = self.is_visit(&o);
         if let Some(achievers) = self.task.achievers.get(&o.lit) {
             for &(op, at) in achievers {
+                if self.past_limit() {
+                    return;
+                }
                 if position && self.task.moves.contains_key(&op) {
                     continue;
                 }
@@ -534,5 +540,58 @@ impl Effects {
             }
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::{Duration, Instant};
+
+    use super::super::super::{PlannerLimits, Stats};
+    use super::super::Flaw;
+
+    /// Three ways to make the goal: three children, unless the time limit
+    /// of a running search has passed.
+    const DOMAIN: &str = "(define (domain d) (:requirements :durative-actions)
+      (:predicates (done))
+      (:durative-action a :parameters () :duration (= ?duration 1) :effect (at end (done)))
+      (:durative-action b :parameters () :duration (= ?duration 2) :effect (at end (done)))
+      (:durative-action c :parameters () :duration (= ?duration 3) :effect (at end (done))))";
+    const PROBLEM: &str = "(define (problem p) (:domain d) (:init) (:goal (done)))";
+
+    #[test]
+    fn past_the_time_limit_an_expansion_makes_no_more_children() {
+        super::super::test_support::with_search(
+            ("domain.pddl", "problem.pddl"),
+            DOMAIN,
+            PROBLEM,
+            |_, search| {
+                let mut roots = search.initial();
+                let Some(Flaw::Open(goal)) = search.select(&mut roots[0]) else { panic!("the goal is open") };
+                let children = |search: &super::Search<'_, '_>| {
+                    let mut out = Vec::new();
+                    search.resolvers(&roots[0], Flaw::Open(goal), &mut out);
+                    out.len()
+                };
+                assert_eq!(children(search), 3);
+                let mut stats = Stats::default();
+                assert_eq!(search.expand(&roots[0], Flaw::Open(goal), &mut stats, &mut |_| {}).len(), 3);
+                // The limit has passed: the expansion stops.
+                search.until.set(Some(Instant::now()));
+                assert_eq!(children(search), 0);
+                assert!(search.expand(&roots[0], Flaw::Open(goal), &mut stats, &mut |_| {}).is_empty());
+                // A search stopped by its limit leaves none behind it: what
+                // reports its best partial plan gets every child.
+                search.until.set(None);
+                let limits =
+                    PlannerLimits { time: Some(Duration::from_nanos(1)), ..PlannerLimits::default() };
+                let mut best = None;
+                let end =
+                    search.run(search.initial(), &limits, &|| false, &mut |_| {}, &mut stats, &mut best);
+                assert!(matches!(end, super::super::End2::Limit(_)));
+                assert!(!search.past_limit());
+                assert_eq!(children(search), 3);
+            },
+        );
     }
 }
