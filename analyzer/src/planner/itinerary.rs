@@ -420,7 +420,8 @@ impl Geo {
             for (k, &mv) in path.iter().enumerate() {
                 let ns = c.add_step(task, h, mv, None)?;
                 let from_lit = lit(m.positions[task.moves[&mv].1 as usize], false);
-                let idx = c.open.iter().rposition(|x| x.step == ns && x.lit == from_lit)?;
+                let idx =
+                    (0..c.open.len()).rev().find(|&j| c.open[j].step == ns && c.open[j].lit == from_lit)?;
                 let open = c.remove_open(idx);
                 if k == 0 && t.release != t.producer_tp && !c.stn.add(t.release, open.need, EPS) {
                     return None;

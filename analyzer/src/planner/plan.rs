@@ -3,7 +3,8 @@
 //! hierarchy, and the open links, threats and abstract flaws still to solve.
 //!
 //! A plan is cheap to copy: its steps and links are [`PVec`]s, its network a
-//! [`Stn`] of shared rows, its flaw lists small `Rc` vectors. Every
+//! [`Stn`] of shared rows, its open links a [`PList`] of shared chunks,
+//! its other flaw lists small `Rc` vectors. Every
 //! operation that can fail (a constraint that makes the network
 //! inconsistent) returns `false`, and the caller drops the plan.
 
@@ -11,7 +12,7 @@ use std::rc::Rc;
 
 use super::heuristic::Heuristic;
 use super::itinerary::Tail;
-use super::pvec::PVec;
+use super::pvec::{PList, PVec};
 use super::stn::{EPS, ORIGIN, Stn, Tp};
 use super::task::{End, Lit, Task, atom_of, is_neg, negate};
 
@@ -110,7 +111,7 @@ pub struct Plan {
     pub steps: PVec<Step>,
     pub links: PVec<Link>,
     pub stn: Stn,
-    pub open: Rc<Vec<Open>>,
+    pub open: PList<Open>,
     pub threats: Rc<Vec<Threat>>,
     /// Abstract steps not refined yet (Definition 9).
     pub abstracts: Rc<Vec<u32>>,
@@ -167,7 +168,7 @@ impl Plan {
             steps: PVec::new(),
             links: PVec::new(),
             stn,
-            open: Rc::new(Vec::new()),
+            open: PList::new(),
             threats: Rc::new(Vec::new()),
             abstracts: Rc::new(Vec::new()),
             goal_tp,
@@ -538,7 +539,7 @@ impl Plan {
             });
         }
         if !opens.is_empty() {
-            extend_shared(&mut self.open, opens);
+            self.open.extend(opens);
         }
         if op.is_abstract {
             Rc::make_mut(&mut self.abstracts).push(s);
@@ -549,7 +550,7 @@ impl Plan {
 
     /// Adds an open link of another origin (goal, method precondition, abstract effect).
     pub fn add_open(&mut self, o: Open) {
-        extend_shared(&mut self.open, [o]);
+        self.open.push(o);
     }
 
     /// Adds the causal link `from —lit→ open` and its threats.
@@ -587,7 +588,7 @@ impl Plan {
     }
 
     pub fn remove_open(&mut self, i: usize) -> Open {
-        Rc::make_mut(&mut self.open).remove(i)
+        self.open.remove(i)
     }
 }
 

@@ -269,21 +269,23 @@ impl Stn {
         self.in_row(a, b) || (!self.pending.is_empty() && self.before_by_pending(a, b))
     }
 
-    /// [`Stn::before`] by a path through the orderings that wait.
+    /// [`Stn::before`] by a path through the orderings that wait (at most
+    /// [`PENDING`]: the orderings reached are a bit set, no allocation).
     #[inline(never)]
     fn before_by_pending(&self, a: Tp, b: Tp) -> bool {
         let p = &self.pending;
         // `x` at or before `y` by the rows.
         let upto = |x: Tp, y: Tp| x == y || self.in_row(x, y);
         let mut seen = 0u32;
-        let mut stack: Vec<usize> = Vec::new();
         for (i, &(from, _)) in p.iter().enumerate() {
             if upto(a, from) {
                 seen |= 1 << i;
-                stack.push(i);
             }
         }
-        while let Some(i) = stack.pop() {
+        let mut todo = seen;
+        while todo != 0 {
+            let i = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
             let to = p[i].1;
             if upto(to, b) {
                 return true;
@@ -291,7 +293,7 @@ impl Stn {
             for (j, &(from, _)) in p.iter().enumerate() {
                 if seen >> j & 1 == 0 && upto(to, from) {
                     seen |= 1 << j;
-                    stack.push(j);
+                    todo |= 1 << j;
                 }
             }
         }

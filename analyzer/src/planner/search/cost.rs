@@ -68,36 +68,45 @@ impl Search<'_, '_> {
                 // and the need (the paper's words: "no other step removes
                 // this literal after its creation"): a fuel level that a
                 // flight leaves does not serve the flight after the next.
-                let deleters = index.of(o.lit ^ 1);
-                let after_need = |d: Tp| d == o.need || p.stn.before(o.need, d);
+                // The deletions that are not at or after the need, each with
+                // whether it is surely before the need, are read from the
+                // network once per link, not once per producer (an
+                // aircraft's fuel level has as many producers and deleters
+                // as the aircraft has flights in the plan).
+                let strict = self.task.g.tdg_methods.is_none();
+                let producers = index.of(o.lit);
+                let initially = self.task.holds_initially(o.lit) && o.step != INIT;
+                if !initially && producers.is_empty() {
+                    return base;
+                }
+                let deleters: smallvec::SmallVec<[(Tp, bool); 16]> = index
+                    .of(o.lit ^ 1)
+                    .iter()
+                    .filter(|&&d| d != o.need && !p.stn.before(o.need, d))
+                    .map(|&d| (d, p.stn.before(d, o.need)))
+                    .collect();
                 // On purely hierarchical problems, Equation 1 as it is: their
                 // steps come from methods, and the weighted search follows
                 // the decomposition's estimate (IPC 2020 Rover problem 6
                 // went from 65,617 plans to no plan in 355,136 with the rule).
-                let strict = self.task.g.tdg_methods.is_none();
-                let between = |e: Tp, d: Tp| {
-                    strict
-                        && d != e
-                        && (e == ORIGIN || p.stn.before(e, d))
-                        && !after_need(d)
-                        && p.stn.before(d, o.need)
+                // `d` surely deletes the literal between `e` and the need.
+                let between = |e: Tp, d: Tp, before_need: bool| {
+                    strict && before_need && d != e && (e == ORIGIN || p.stn.before(e, d))
                 };
+                // Every deleter ordered with `e`, none surely between.
                 let ordered = |e: Tp| {
-                    deleters.iter().all(|&d| {
-                        !between(e, d)
-                            && (e == ORIGIN
-                                || d == e
-                                || after_need(d)
-                                || p.stn.before(d, e)
-                                || p.stn.before(e, d))
+                    deleters.iter().all(|&(d, before_need)| {
+                        if e == ORIGIN || d == e {
+                            return !between(e, d, before_need);
+                        }
+                        if p.stn.before(e, d) { !(strict && before_need) } else { p.stn.before(d, e) }
                     })
                 };
                 let can_be_before = |e: Tp| e != o.need && !p.stn.before(o.need, e);
-                let initially = self.task.holds_initially(o.lit) && o.step != INIT;
                 if initially && ordered(ORIGIN) {
                     return (0.0, 0.0);
                 }
-                if index.of(o.lit).iter().any(|&e| can_be_before(e) && ordered(e)) {
+                if producers.iter().any(|&e| can_be_before(e) && ordered(e)) {
                     return (0.0, 0.0);
                 }
                 if initially {
@@ -106,10 +115,9 @@ impl Search<'_, '_> {
                     // serve two flights in a row): free only if a step of
                     // the plan may still give it back in time, else it
                     // must be made true again.
-                    if index
-                        .of(o.lit)
+                    if producers
                         .iter()
-                        .any(|&e| can_be_before(e) && deleters.iter().all(|&d| !between(e, d)))
+                        .any(|&e| can_be_before(e) && deleters.iter().all(|&(d, b)| !between(e, d, b)))
                     {
                         return (0.0, 0.0);
                     }

@@ -217,7 +217,8 @@ impl Search<'_, '_> {
     /// The open links that are not visits and that no unrefined abstract
     /// step may still support.
     pub(super) fn ready_links(&self, p: &Plan) -> Vec<usize> {
-        (0..p.open.len()).filter(|&i| !self.is_visit(&p.open[i]) && !self.deferred(p, &p.open[i])).collect()
+        let ready = |o: &Open| !self.is_visit(o) && !self.deferred(p, o);
+        p.open.iter().enumerate().filter(|&(_, o)| ready(o)).map(|(i, _)| i).collect()
     }
 
     /// In a problem where no step is ever inserted (no action in 𝒜: a

@@ -306,6 +306,19 @@ impl<'a, 'db> Search<'a, 'db> {
         let linking = matches!(flaw, Flaw::Open(_));
         let mut children = Vec::new();
         self.resolvers(p, flaw, &mut children);
+        self.scored(p, children, linking, stats, dead)
+    }
+
+    /// [`Search::expand`] of `children`, the resolvers of an open link of
+    /// `p` when `linking` (their steps added count in the descent's order).
+    fn scored(
+        &self,
+        p: &Plan,
+        children: Vec<Plan>,
+        linking: bool,
+        stats: &mut Stats,
+        dead: &mut dyn FnMut(&Plan),
+    ) -> Vec<Scored> {
         let mut out = Vec::with_capacity(children.len());
         for mut c in children {
             if self.past_limit() {
@@ -342,13 +355,27 @@ impl<'a, 'db> Search<'a, 'db> {
         deadline: &dyn Fn() -> bool,
         free: bool,
     ) -> Option<Plan> {
-        let mut stack: Vec<std::vec::IntoIter<Plan>> = vec![first.into_iter()];
+        let mut stack: Vec<Level> = vec![Level { next: first.into_iter(), steps_for: None }];
         let mut spent = 0u64;
+        // The children of a level, in the order the descent tries them.
+        let order = |mut scored: Vec<Scored>| {
+            scored.retain(|c| admits(c.span) && c.plan.steps.len() <= max_steps);
+            scored.sort_by(Scored::probe_order);
+            scored.into_iter().map(|x| x.plan).collect::<Vec<_>>().into_iter()
+        };
         loop {
             let mut p = loop {
                 let top = stack.last_mut()?;
-                if let Some(n) = top.next() {
+                if let Some(n) = top.next.next() {
                     break n;
+                }
+                // Back at an open link whose causal links all failed: its
+                // new steps now (they come after every link in the order).
+                if let Some((parent, i)) = top.steps_for.take() {
+                    let mut children = Vec::new();
+                    self.open_steps(&parent, i, &mut children);
+                    top.next = order(self.scored(&parent, children, true, stats, &mut |_| {}));
+                    continue;
                 }
                 stack.pop();
             };
@@ -370,10 +397,15 @@ impl<'a, 'db> Search<'a, 'db> {
                 p.stn.flush();
                 return Some(p);
             };
-            let mut scored = self.expand(&p, flaw, stats, &mut |_| {});
-            scored.retain(|c| admits(c.span) && c.plan.steps.len() <= max_steps);
-            scored.sort_by(Scored::probe_order);
-            stack.push(scored.into_iter().map(|x| x.plan).collect::<Vec<_>>().into_iter());
+            let level = if let Flaw::Open(i) = flaw {
+                let mut children = Vec::new();
+                self.open_links(&p, i, &mut children);
+                let next = order(self.scored(&p, children, true, stats, &mut |_| {}));
+                Level { next, steps_for: Some((p, i)) }
+            } else {
+                Level { next: order(self.expand(&p, flaw, stats, &mut |_| {})), steps_for: None }
+            };
+            stack.push(level);
         }
     }
 
@@ -633,6 +665,18 @@ impl<'a, 'db> Search<'a, 'db> {
         }
         settle_end(end, incumbent, stats)
     }
+}
+
+/// A level of a greedy descent ([`Search::probe`]): the children left to
+/// try, in order, and, for an open link, the plan and the link whose new
+/// steps come after them. The descent tries causal links to the steps
+/// already there first and mostly goes down one of them: the new steps
+/// (a ZenoTravel fuel level has a hundred achievers, a flight between
+/// every two cities) are only made and scored when it comes back to the
+/// level, in the same order as before.
+struct Level {
+    next: std::vec::IntoIter<Plan>,
+    steps_for: Option<(Plan, usize)>,
 }
 
 /// A child plan with its score.

@@ -376,10 +376,23 @@ impl Search<'_, '_> {
         }
     }
 
+    /// The resolvers of open link `i`: causal links, then new steps.
     pub(super) fn open_resolvers(&self, p: &Plan, i: usize, out: &mut Vec<Plan>) {
+        self.open_links(p, i, out);
+        self.open_steps(p, i, out);
+    }
+
+    /// Plan `p` without its open link `i`, and that link.
+    fn without_open(p: &Plan, i: usize) -> (Plan, Open) {
         let o = p.open[i];
         let mut base = p.clone();
         base.remove_open(i);
+        (base, o)
+    }
+
+    /// The resolvers of open link `i` that link it to a step of the plan.
+    pub(super) fn open_links(&self, p: &Plan, i: usize, out: &mut Vec<Plan>) {
+        let (base, o) = Self::without_open(p, i);
         // Causal links to existing steps. An abstract step's own effect is
         // its method's to achieve: only the steps it holds support it.
         // Another step would make a method that does not do what its
@@ -400,28 +413,33 @@ impl Search<'_, '_> {
                 out.push(c);
             }
         }
-        if o.origin == OpenOrigin::AbstractEffect {
+    }
+
+    /// The resolvers of open link `i` that insert a new step from 𝒜 (none
+    /// for an abstract step's own effect; a visit gets its moves from its
+    /// itinerary).
+    pub(super) fn open_steps(&self, p: &Plan, i: usize, out: &mut Vec<Plan>) {
+        if p.open[i].origin == OpenOrigin::AbstractEffect {
             return;
         }
-        // New steps from 𝒜 (a visit gets its moves from its itinerary).
+        let Some(achievers) = self.task.achievers.get(&p.open[i].lit) else { return };
+        let (base, o) = Self::without_open(p, i);
         let position = self.is_visit(&o);
-        if let Some(achievers) = self.task.achievers.get(&o.lit) {
-            for &(op, at) in achievers {
-                if self.past_limit() {
-                    return;
-                }
-                if position && self.task.moves.contains_key(&op) {
-                    continue;
-                }
-                if self.config.bare && self.task.ops[op as usize].is_abstract {
-                    continue;
-                }
-                let mut c = base.clone();
-                let Some(s) = self.add_step(&mut c, op, None) else { continue };
-                let tp = c.steps[s as usize].tp(at);
-                if c.add_link(self.task, s, tp, &o) {
-                    out.push(c);
-                }
+        for &(op, at) in achievers {
+            if self.past_limit() {
+                return;
+            }
+            if position && self.task.moves.contains_key(&op) {
+                continue;
+            }
+            if self.config.bare && self.task.ops[op as usize].is_abstract {
+                continue;
+            }
+            let mut c = base.clone();
+            let Some(s) = self.add_step(&mut c, op, None) else { continue };
+            let tp = c.steps[s as usize].tp(at);
+            if c.add_link(self.task, s, tp, &o) {
+                out.push(c);
             }
         }
     }
@@ -593,5 +611,42 @@ mod tests {
                 assert_eq!(children(search), 3);
             },
         );
+    }
+
+    /// `finish` makes both goals; `mark ?x` (five instances) makes `(p)`
+    /// alone, quicker. A descent links the goal's `(p)` to the `finish`
+    /// already there, and the five `mark` steps that could support it
+    /// instead are never made: an open link's new steps are only made when
+    /// the descent comes back to it after its causal links.
+    const LAZY: &str = "(define (domain lazy)
+  (:requirements :durative-actions :typing)
+  (:types thing)
+  (:predicates (p) (done))
+  (:durative-action finish :parameters () :duration (= ?duration 5)
+    :effect (and (at end (done)) (at end (p))))
+  (:durative-action mark :parameters (?x - thing) :duration (= ?duration 1)
+    :effect (at end (p))))";
+
+    #[test]
+    fn a_descent_makes_new_steps_only_after_the_causal_links() {
+        let problem = "(define (problem p) (:domain lazy)
+  (:objects a b c d e - thing) (:init) (:goal (and (done) (p))))";
+        super::super::test_support::with_search(
+            ("domain.pddl", "problem.pddl"),
+            LAZY,
+            problem,
+            |_, search| {
+                let mut stats = Stats::default();
+                let found = search.probe(search.initial(), 100, 100, &|_| true, &mut stats, &|| false, true);
+                let plan = found.expect("a plan");
+                let ops: Vec<&str> = (0..plan.steps.len() as u32)
+                    .filter_map(|s| plan.op_of(s))
+                    .map(|o| &*search.task.ops[o as usize].name)
+                    .collect();
+                assert_eq!(ops, ["finish"]);
+                // `finish` for `(done)`, then the link to it for `(p)`.
+                assert_eq!(stats.generated, 2);
+            },
+        )
     }
 }
