@@ -31,7 +31,7 @@ pub struct Heuristic {
     /// Per abstract operator: the literals its refinements may make true
     /// (sorted); `None` when the fixpoint was too large to compute, and any
     /// literal is assumed possible.
-    pub may_add: Option<Vec<Vec<Lit>>>,
+    pub may_add: Option<MayAdd>,
 }
 
 impl Heuristic {
@@ -169,7 +169,7 @@ impl Heuristic {
     /// Whether refining abstract operator `op` may make `l` true.
     pub fn may_add(&self, op: u32, l: Lit) -> bool {
         match &self.may_add {
-            Some(m) => m.get(op as usize).is_some_and(|v| v.binary_search(&l).is_ok()),
+            Some(m) => m.of(op).binary_search(&l).is_ok(),
             None => true,
         }
     }
@@ -208,54 +208,136 @@ fn effect_end(op: &Op<'_>, e: &Eff) -> usize {
     if e.at == End::Start && !op.instant { 0 } else { 1 }
 }
 
-/// What the refinements of each abstract operator may add: a fixpoint over
-/// the methods, bounded in size.
-fn may_add(task: &Task<'_>) -> Option<Vec<Vec<Lit>>> {
+/// What the refinements of each abstract operator may add: the effects of
+/// the elementary operators its methods reach, directly or through other
+/// tasks. Operators that reach each other (a strongly connected component
+/// of the graph from a task to its methods' subtasks: a recursion) reach
+/// the same operators, so each component's set is computed once, from
+/// those of the components below it (Tarjan's algorithm gives them children
+/// first). Bounded in size. A fixpoint over the methods went through every
+/// method's subtasks' sets again each round: 40 % of the run on IPC 2020
+/// Monroe (74,349 ground operators, 61,947 method instances), 8 s.
+fn may_add(task: &Task<'_>) -> Option<MayAdd> {
     const CAP: usize = 4_000_000;
     let n = task.ops.len();
-    let mut sets: Vec<Vec<Lit>> = vec![Vec::new(); n];
+    // The graph: an operator to its methods' subtasks.
+    let mut succ: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for m in &task.methods {
+        for &(_, s) in &m.subtasks {
+            succ[m.task as usize].push(s);
+        }
+    }
+    for v in &mut succ {
+        v.sort_unstable();
+        v.dedup();
+    }
+    let (comp, comps) = components(&succ);
+    let mut sets: Vec<Vec<Lit>> = Vec::with_capacity(comps.len());
     let mut total = 0usize;
-    for (i, op) in task.ops.iter().enumerate() {
-        if !op.is_abstract {
-            let mut v: Vec<Lit> = op.effs.iter().map(|e| e.lit).collect();
-            v.sort_unstable();
-            v.dedup();
-            total += v.len();
-            sets[i] = v;
-        }
-    }
-    let mut changed = true;
-    let mut rounds = 0;
-    while changed && rounds < 64 {
-        changed = false;
-        rounds += 1;
-        for m in &task.methods {
-            let t = m.task as usize;
-            let mut add: Vec<Lit> = Vec::new();
-            for &(_, s) in &m.subtasks {
-                if s as usize != t {
-                    add.extend(
-                        sets[s as usize].iter().copied().filter(|l| sets[t].binary_search(l).is_err()),
-                    );
+    // `components` lists a component after every component it reaches.
+    for members in &comps {
+        let c = sets.len() as u32;
+        let mut v: Vec<Lit> = Vec::new();
+        for &o in members {
+            let op = &task.ops[o as usize];
+            if !op.is_abstract {
+                v.extend(op.effs.iter().map(|e| e.lit));
+            }
+            for &s in &succ[o as usize] {
+                let d = comp[s as usize];
+                if d != c {
+                    v.extend_from_slice(&sets[d as usize]);
                 }
             }
-            if !add.is_empty() {
-                add.sort_unstable();
-                add.dedup();
-                total += add.len();
-                if total > CAP {
-                    return None;
+        }
+        v.sort_unstable();
+        v.dedup();
+        total += v.len();
+        if total > CAP {
+            return None;
+        }
+        sets.push(v);
+    }
+    Some(MayAdd { comp, sets })
+}
+
+/// The strongly connected components of a graph (Tarjan's algorithm,
+/// iterative): each node's component, and the components' nodes, every
+/// component after the components it reaches.
+fn components(succ: &[Vec<u32>]) -> (Vec<u32>, Vec<Vec<u32>>) {
+    const NONE: u32 = u32::MAX;
+    let n = succ.len();
+    let mut index = vec![NONE; n];
+    let mut low = vec![0u32; n];
+    let mut on_stack = vec![false; n];
+    let mut comp = vec![NONE; n];
+    let mut comps: Vec<Vec<u32>> = Vec::new();
+    let mut stack: Vec<u32> = Vec::new();
+    let mut next = 0u32;
+    // The depth-first path: a node and how many of its successors it has
+    // gone through.
+    let mut path: Vec<(u32, usize)> = Vec::new();
+    for root in 0..n as u32 {
+        if index[root as usize] != NONE {
+            continue;
+        }
+        index[root as usize] = next;
+        low[root as usize] = next;
+        next += 1;
+        stack.push(root);
+        on_stack[root as usize] = true;
+        path.push((root, 0));
+        while let Some(top) = path.last_mut() {
+            let (v, k) = *top;
+            let vu = v as usize;
+            if let Some(&w) = succ[vu].get(k) {
+                top.1 += 1;
+                let wu = w as usize;
+                if index[wu] == NONE {
+                    index[wu] = next;
+                    low[wu] = next;
+                    next += 1;
+                    stack.push(w);
+                    on_stack[wu] = true;
+                    path.push((w, 0));
+                } else if on_stack[wu] {
+                    low[vu] = low[vu].min(index[wu]);
                 }
-                let mut merged = std::mem::take(&mut sets[t]);
-                merged.extend(add);
-                merged.sort_unstable();
-                merged.dedup();
-                sets[t] = merged;
-                changed = true;
+                continue;
+            }
+            path.pop();
+            if let Some(&(parent, _)) = path.last() {
+                low[parent as usize] = low[parent as usize].min(low[vu]);
+            }
+            if low[vu] == index[vu] {
+                let c = comps.len() as u32;
+                let mut members = Vec::new();
+                while let Some(w) = stack.pop() {
+                    on_stack[w as usize] = false;
+                    comp[w as usize] = c;
+                    members.push(w);
+                    if w == v {
+                        break;
+                    }
+                }
+                comps.push(members);
             }
         }
     }
-    Some(sets)
+    (comp, comps)
+}
+
+/// The literals the refinements of each operator may make true: the set of
+/// its strongly connected component ([`may_add`]).
+pub struct MayAdd {
+    comp: Vec<u32>,
+    sets: Vec<Vec<Lit>>,
+}
+
+impl MayAdd {
+    fn of(&self, op: u32) -> &[Lit] {
+        self.comp.get(op as usize).map_or(&[], |&c| self.sets[c as usize].as_slice())
+    }
 }
 
 #[cfg(test)]
@@ -304,6 +386,64 @@ mod tests {
                 assert_eq!(h.lit_effort(ready), 1.0);
                 assert_eq!(h.refine_effort[op("deliver")], 1.0 + 1.0 + 1.0);
                 assert!((h.refine_cost[op("deliver")] - (h.lit_cost(ready) + EPS)).abs() < 1e-9);
+            })
+            .expect("not cancelled");
+    }
+
+    /// What a task's refinements may add is what the elementary actions
+    /// below it add, however deep: `t0` reaches `act` through 80 tasks, and
+    /// `loop-a` and `loop-b` refine into each other (one component) and
+    /// reach `other`. The fixpoint over the methods before stopped after 64
+    /// rounds, one level each, and `t0` to `t15` were missing `(p)`.
+    #[test]
+    fn may_add_reaches_every_level_and_goes_round_recursions() {
+        const DEPTH: usize = 80;
+        let mut domain = String::from(
+            "(define (domain d) (:requirements :hierarchy) (:predicates (p) (q))
+             (:task loop-a :parameters ()) (:task loop-b :parameters ())
+             (:method a-b :parameters () :task (loop-a) :ordered-subtasks (and (loop-b)))
+             (:method b-a :parameters () :task (loop-b) :ordered-subtasks (and (other) (loop-a)))
+             (:method b-done :parameters () :task (loop-b) :ordered-subtasks (and (other)))
+             (:action act :parameters () :effect (p))
+             (:action other :parameters () :effect (q))",
+        );
+        for i in 0..DEPTH {
+            domain.push_str(&format!(" (:task t{i} :parameters ())"));
+        }
+        // Declared from the top: each round of a fixpoint in this order
+        // carries `(p)` up one level only.
+        for i in 0..DEPTH {
+            let sub = if i + 1 < DEPTH { format!("t{}", i + 1) } else { "act".to_owned() };
+            domain.push_str(&format!(
+                " (:method m{i} :parameters () :task (t{i}) :ordered-subtasks (and ({sub})))"
+            ));
+        }
+        domain.push(')');
+        let problem = "(define (problem p) (:domain d) (:htn :subtasks (and (t0) (loop-a))) (:init))";
+        let mut host = AnalysisHost::new();
+        host.set_file_text("domain.hddl", domain);
+        let pf = host.set_file_text("problem.hddl", problem);
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::db::file_units(db, pf)[0];
+                let task = match crate::planner::task::compile(db, unit, &PlannerLimits::default()) {
+                    Ok(task) => task,
+                    Err(_) => panic!("the problem does not compile"),
+                };
+                let h = Heuristic::new(&task);
+                let op =
+                    |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an operator") as u32;
+                let p = task.ops[op("act") as usize].effs[0].lit;
+                let q = task.ops[op("other") as usize].effs[0].lit;
+                for i in 0..DEPTH {
+                    let t = op(&format!("t{i}"));
+                    assert!(h.may_add(t, p), "t{i} may add (p)");
+                    assert!(!h.may_add(t, q), "t{i} may not add (q)");
+                }
+                for name in ["loop-a", "loop-b"] {
+                    assert!(h.may_add(op(name), q), "{name} may add (q)");
+                    assert!(!h.may_add(op(name), p), "{name} may not add (p)");
+                }
             })
             .expect("not cancelled");
     }
