@@ -91,7 +91,10 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
     }
     let show_progress = options.progress;
     let mut last_makespan = None;
+    let watchdog = Watchdog::start(&options.limits, options.format == PlanOutput::Json);
+    let searching = watchdog.searching.clone();
     let mut progress = |p: &hipop_analyzer::planner::Progress| {
+        searching.store(true, std::sync::atomic::Ordering::Release);
         if show_progress && p.improved {
             let makespan = p.makespan.unwrap_or(p.best_f);
             // Same makespan, lower cost: fewer steps (or less work).
@@ -112,7 +115,6 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
             );
         }
     };
-    let watchdog = Watchdog::start(&options.limits, options.format == PlanOutput::Json);
     let planned = analysis.run_planner(fp, &options.config, &options.limits, &|| false, &mut progress);
     drop(watchdog);
     let result = match planned {
@@ -278,6 +280,9 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
 /// with exit status 3, as for any limit, saying where it was.
 struct Watchdog {
     done: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    /// Set once the search reports its progress: a limit reached after it
+    /// was reached by the search between two of its looks at it.
+    searching: std::sync::Arc<std::sync::atomic::AtomicBool>,
 }
 
 impl Watchdog {
@@ -291,6 +296,8 @@ impl Watchdog {
         use std::sync::atomic::Ordering;
         let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let seen = done.clone();
+        let searching = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let in_search = searching.clone();
         let time = limits.time;
         let deadline = time.map(|t| std::time::Instant::now() + t + Self::GRACE);
         let memory = limits.memory.zip(limits.memory_in_use);
@@ -335,13 +342,16 @@ impl Watchdog {
                 (_, _, Some((m, _))) => format!("{} MiB", m >> 20),
                 _ => String::new(),
             };
-            eprintln!(
-                "no plan found: the {which} limit ({limit}) was reached where the planner does not look at it (grounding or compiling a large problem)"
-            );
+            let where_ = if in_search.load(Ordering::Acquire) {
+                "during the search, between two of its looks at it"
+            } else {
+                "where the planner does not look at it (grounding or compiling a large problem)"
+            };
+            eprintln!("no plan found: the {which} limit ({limit}) was reached {where_}");
             let _ = std::io::stderr().flush();
             std::process::exit(3);
         });
-        Watchdog { done }
+        Watchdog { done, searching }
     }
 }
 

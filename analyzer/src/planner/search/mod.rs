@@ -496,7 +496,33 @@ impl<'a, 'db> Search<'a, 'db> {
             |elapsed: std::time::Duration| limits.time.is_some_and(|t| elapsed + limits.time_spent >= t);
         let time_up = || out_of_time(started.elapsed()) || cancel();
         let mut last_report = Instant::now();
-        let mut last_in_use = limits.memory_in_use.map_or(0, |f| f());
+        // The memory is read every 32 expansions (a plan is a few kilobytes
+        // to a few hundred), and the search stops when the next 32,
+        // growing it as much as the last 32 did, would go over: it ends
+        // under the limit, not a few megabytes past it.
+        let last_in_use = std::cell::Cell::new(limits.memory_in_use.map_or(0, |f| f()));
+        let memory_over = || match (limits.memory, limits.memory_in_use) {
+            (Some(m), Some(in_use)) => {
+                let now = in_use();
+                let next = now.saturating_add(now.saturating_sub(last_in_use.get()));
+                last_in_use.set(now);
+                next > m
+            }
+            _ => false,
+        };
+        // A greedy descent looks at both limits too, at each of its
+        // expansions; which one stopped it, for the search to end by it.
+        let descended = std::cell::Cell::new(0u64);
+        let stopped_descent = std::cell::Cell::new(None);
+        let descent_stops = || {
+            descended.set(descended.get() + 1);
+            if time_up() {
+                stopped_descent.set(Some(LimitKind::Time));
+            } else if descended.get().is_multiple_of(32) && memory_over() {
+                stopped_descent.set(Some(LimitKind::Memory));
+            }
+            stopped_descent.get().is_some()
+        };
         let mut next_milestone: u64 = 1024;
         // The best plan found and its cost, when the search goes on.
         let mut incumbent: Option<(Plan, Quality)> = None;
@@ -593,17 +619,7 @@ impl<'a, 'db> Search<'a, 'db> {
                 break End2::Limit(LimitKind::Nodes);
             }
             let over = match (limits.memory, limits.memory_in_use) {
-                // Measured every 32 expansions (a plan is a few kilobytes to
-                // a few hundred), and the search stops when the next 32,
-                // growing the memory as much as the last 32 did, would go
-                // over: it ends under the limit, not a few megabytes past it.
-                (Some(m), Some(in_use)) if stats.expanded.is_multiple_of(32) => {
-                    let now = in_use();
-                    let next = now.saturating_add(now.saturating_sub(last_in_use));
-                    last_in_use = now;
-                    next > m
-                }
-                (Some(_), Some(_)) => false,
+                (Some(_), Some(_)) => stats.expanded.is_multiple_of(32) && memory_over(),
                 (Some(m), None) => heap.len().saturating_mul(approx_plan_bytes(&plan)) > m,
                 (None, _) => false,
             };
@@ -644,11 +660,16 @@ impl<'a, 'db> Search<'a, 'db> {
                 let mut first: Vec<&Scored> = scored.iter().collect();
                 first.sort_by(|a, b| Scored::probe_order(a, b));
                 let first = first.into_iter().map(|s| s.plan.clone()).collect();
-                if let Some(plan) =
-                    self.probe(first, budget, max_steps, &admits, stats, &time_up, !limits.exits_after)
+                let descent =
+                    self.probe(first, budget, max_steps, &admits, stats, &descent_stops, !limits.exits_after);
+                if let Some(plan) = descent
                     && let Some(end) = found(plan, stats, &mut incumbent, &mut heap, progress)
                 {
                     return end;
+                }
+                if stopped_descent.get() == Some(LimitKind::Memory) {
+                    stats.elapsed = started.elapsed();
+                    break End2::Limit(LimitKind::Memory);
                 }
             }
             for c in scored {
