@@ -16,7 +16,8 @@ use crate::syntax::{self, GList, GSexp, Green, List, Parse, SyntaxKind};
 
 // The inputs, with the queries that read them: a query needs both.
 pub use crate::input::{
-    Db, ReparseHint, RootDatabase, Settings, SourceFile, Workspace, plan_options, triangle_tolerance,
+    Db, ReparseHint, RootDatabase, Settings, SourceFile, Workspace, plan_options, syntax_in_items,
+    triangle_tolerance,
 };
 
 /// Parses a file. Not compared for backdating: the tree changes whenever the text does.
@@ -167,8 +168,8 @@ impl ItemSyntax {
 
 /// Where an item's node is in its file's tree: the index of the child taken
 /// at each level on the way down from the root (`Group` nodes included).
-/// Items keep this, not the node, so that holding the items does not hold
-/// the tree ([`item_syntax`] finds the node).
+/// Without [`syntax_in_items`], items keep this, not the node, so that
+/// holding the items does not hold the tree ([`item_syntax`] finds the node).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct NodePath {
     steps: [u32; 4],
@@ -214,6 +215,12 @@ pub struct Item<'db> {
     /// that inserting an action does not shift the identity of the others).
     #[returns(ref)]
     pub name: Option<String>,
+    /// The item's syntax, with [`syntax_in_items`] (compared pointer-first:
+    /// an edit elsewhere leaves it the same allocation, and [`lower_item`]
+    /// is not run again); read through [`item_syntax`].
+    #[tracked]
+    #[returns(ref)]
+    pub syntax: Option<ItemSyntax>,
     /// Where the item's syntax is in the file's tree ([`item_syntax`]).
     #[tracked]
     #[returns(copy)]
@@ -235,14 +242,20 @@ pub struct Item<'db> {
     pub offset: TextSize,
 }
 
-/// The syntax of an item, found in its file's tree. Compared pointer-first
-/// for backdating: after an edit elsewhere in the file, the node is the same
-/// allocation and [`lower_item`] is not run again.
-///
+/// The syntax of an item: the one it holds, or, without [`syntax_in_items`],
+/// the one found in its file's tree.
+pub fn item_syntax<'db>(db: &'db dyn Db, item: Item<'db>) -> &'db ItemSyntax {
+    match item.syntax(db) {
+        Some(syntax) => syntax,
+        None => located_syntax(db, item),
+    }
+}
+
+/// The syntax of an item that does not hold it, found in its file's tree.
 /// Its memo may be evicted, as [`parse`]'s: the command line drops the trees
 /// once the items are lowered.
 #[salsa::tracked(returns(ref), lru = 0)]
-pub fn item_syntax<'db>(db: &'db dyn Db, item: Item<'db>) -> ItemSyntax {
+fn located_syntax<'db>(db: &'db dyn Db, item: Item<'db>) -> ItemSyntax {
     let path = item.node_path(db);
     let root = &parse(db, item.file(db)).green.0;
     // The path was read from this tree by `file_units`, in the same revision.
@@ -256,11 +269,11 @@ pub fn item_syntax<'db>(db: &'db dyn Db, item: Item<'db>) -> ItemSyntax {
     }
 }
 
-/// Bounds how many memos of [`parse`] and [`item_syntax`] are kept between
-/// revisions (0: all).
+/// Bounds how many memos of [`parse`] and of the syntax of items that do
+/// not hold it are kept between revisions (0: all).
 pub(crate) fn set_syntax_lru_capacity(db: &mut dyn Db, capacity: usize) {
     parse::set_lru_capacity(db, capacity);
-    item_syntax::set_lru_capacity(db, capacity);
+    located_syntax::set_lru_capacity(db, capacity);
 }
 
 /// The range of the `:init` keyword among the first few children of the
@@ -383,6 +396,7 @@ pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
         return Vec::new();
     }
     let root = &parse(db, file).green.0;
+    let hold = syntax_in_items(db);
     let mut units = Vec::new();
     for (index, (path, list)) in defines(root).enumerate() {
         let index = index as u32;
@@ -410,16 +424,24 @@ pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
                         let node_path = NodePath { chunk: Some(true), ..path };
                         let head = init_keyword(child.green());
                         let len = child.green().text_len();
+                        let syntax = hold.then(|| ItemSyntax::Chunk {
+                            node: Green(child.green().to_owned()),
+                            after_keyword: true,
+                        });
                         items.push(Item::new(
-                            db, file, index, kind, section, None, node_path, len, head, offset,
+                            db, file, index, kind, section, None, syntax, node_path, len, head, offset,
                         ));
                     }
                     for (k, (path, start, group)) in groups.into_iter().enumerate() {
                         let node_path = NodePath { chunk: Some(k == 0), ..path };
                         let head = if k == 0 { init_keyword(group) } else { None };
                         let len = group.text_len();
+                        let syntax = hold.then(|| ItemSyntax::Chunk {
+                            node: Green(group.to_owned()),
+                            after_keyword: k == 0,
+                        });
                         items.push(Item::new(
-                            db, file, index, kind, section, None, node_path, len, head, start,
+                            db, file, index, kind, section, None, syntax, node_path, len, head, start,
                         ));
                     }
                 }
@@ -435,7 +457,10 @@ pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
                     };
                     let head = child.head().map(|h| h.range() - offset);
                     let len = child.green().text_len();
-                    items.push(Item::new(db, file, index, kind, section, name, path, len, head, offset));
+                    let syntax = hold.then(|| ItemSyntax::List(Green(child.green().to_owned())));
+                    items.push(Item::new(
+                        db, file, index, kind, section, name, syntax, path, len, head, offset,
+                    ));
                 }
             }
         }

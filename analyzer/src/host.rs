@@ -118,6 +118,7 @@ impl AnalysisHost {
                 &self.db,
                 Settings::DEFAULT_TRIANGLE_TOLERANCE,
                 crate::input::ValidationOptions::default(),
+                true,
             )
         })
     }
@@ -189,14 +190,20 @@ impl AnalysisHost {
         self.files.iter().map(|(p, f)| (p.as_str(), *f))
     }
 
-    /// For a database that checks its files once (the command line): the
-    /// syntax trees of the files can be dropped once their items are lowered
+    /// For a database that checks its files once (the command line): items
+    /// hold the path to their syntax, not the syntax, and the syntax trees
+    /// of the files can be dropped once the items are lowered
     /// ([`AnalysisHost::release_syntax`]). Call before the first question:
     /// salsa's LRU counts only the uses it sees after this. The language
     /// server keeps every tree (re-parsing after an edit starts from the
-    /// old one).
+    /// old one) and items that hold their syntax (an edit then compares
+    /// each item's node with the old one, with no query per item).
     pub fn drop_syntax_after_use(&mut self) {
         crate::db::set_syntax_lru_capacity(&mut self.db, 1);
+        let s = self.settings();
+        if s.syntax_in_items(&self.db) {
+            s.set_syntax_in_items(&mut self.db).to(false);
+        }
     }
 
     /// After [`AnalysisHost::drop_syntax_after_use`], drops the syntax trees

@@ -206,10 +206,18 @@ fn the_lints_run_without_the_dropped_trees() {
     host.release_syntax();
     log.lock().unwrap().clear();
     let found: Vec<_> = files.iter().map(|&f| host.analysis().diagnostics(f).unwrap()).collect();
-    assert_eq!(format!("{found:?}"), format!("{expected:?}"));
+    // The two databases number their files differently: compare the rest.
+    let shown = |all: &[Vec<hipop_analyzer::Diagnostic>]| -> Vec<String> {
+        let shown = |d: &hipop_analyzer::Diagnostic| {
+            let related: Vec<_> = d.related.iter().map(|r| (r.range, &r.message)).collect();
+            format!("{} {:?} {} {related:?} {:?}", d.code.id, d.range, d.message, d.fix.is_some())
+        };
+        all.iter().map(|ds| ds.iter().map(shown).collect::<Vec<_>>().join("\n")).collect()
+    };
+    assert_eq!(shown(&found), shown(&expected));
     assert_eq!(executed(&log, "problem_lints"), 1, "{:?}", log.lock().unwrap());
     assert_eq!(executed(&log, "parse"), 0, "{:?}", log.lock().unwrap());
-    assert_eq!(executed(&log, "item_syntax"), 0, "{:?}", log.lock().unwrap());
+    assert_eq!(executed(&log, "located_syntax"), 0, "{:?}", log.lock().unwrap());
     // The trees were dropped: asking for one parses its file again.
     hipop_analyzer::db::parse(host.db(), files[1]);
     assert_eq!(executed(&log, "parse"), 1, "{:?}", log.lock().unwrap());
