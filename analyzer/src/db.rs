@@ -16,11 +16,17 @@ use crate::syntax::{self, GList, GSexp, Green, List, Parse, SyntaxKind};
 
 // The inputs, with the queries that read them: a query needs both.
 pub use crate::input::{
-    Db, ReparseHint, RootDatabase, Settings, SourceFile, Workspace, plan_options, triangle_tolerance,
+    Db, ReparseHint, RootDatabase, Settings, SourceFile, Workspace, plan_options, syntax_in_items,
+    triangle_tolerance,
 };
 
 /// Parses a file. Not compared for backdating: the tree changes whenever the text does.
-#[salsa::tracked(returns(ref), no_eq)]
+///
+/// Its memo may be evicted (`lru`, unbounded unless
+/// [`AnalysisHost::drop_syntax_after_use`](crate::AnalysisHost::drop_syntax_after_use)
+/// bounds it): once a file's items are lowered, the checks and the lints
+/// read their models, not the tree.
+#[salsa::tracked(returns(ref), no_eq, lru = 0)]
 pub fn parse(db: &dyn Db, file: SourceFile) -> Parse {
     let text = file.text(db);
     match file.reparse_hint(db) {
@@ -160,6 +166,40 @@ impl ItemSyntax {
     }
 }
 
+/// Where an item's node is in its file's tree: the index of the child taken
+/// at each level on the way down from the root (`Group` nodes included).
+/// Without [`syntax_in_items`], items keep this, not the node, so that
+/// holding the items does not hold the tree ([`item_syntax`] finds the node).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct NodePath {
+    steps: [u32; 4],
+    depth: u8,
+    /// For an `:init` chunk, whether it starts with `(:init`; `None` for a section.
+    chunk: Option<bool>,
+}
+
+impl NodePath {
+    /// The path to child `index` of the node at `self`.
+    fn child(mut self, index: usize) -> NodePath {
+        self.steps[usize::from(self.depth)] = index as u32;
+        self.depth += 1;
+        self
+    }
+
+    fn root() -> NodePath {
+        NodePath { steps: [0; 4], depth: 0, chunk: None }
+    }
+
+    /// The node at the end of the path, if the tree has one there.
+    fn locate<'a>(&self, root: &'a rowan::GreenNodeData) -> Option<&'a rowan::GreenNodeData> {
+        let mut node = root;
+        for &i in &self.steps[..usize::from(self.depth)] {
+            node = node.children().nth(i as usize)?.into_node()?;
+        }
+        Some(node)
+    }
+}
+
 /// One section of a `define`, or a chunk of its `:init`.
 #[salsa::tracked(debug)]
 pub struct Item<'db> {
@@ -175,13 +215,80 @@ pub struct Item<'db> {
     /// that inserting an action does not shift the identity of the others).
     #[returns(ref)]
     pub name: Option<String>,
+    /// The item's syntax, with [`syntax_in_items`] (compared pointer-first:
+    /// an edit elsewhere leaves it the same allocation, and [`lower_item`]
+    /// is not run again); read through [`item_syntax`].
     #[tracked]
     #[returns(ref)]
-    pub syntax: ItemSyntax,
+    pub syntax: Option<ItemSyntax>,
+    /// Where the item's syntax is in the file's tree ([`item_syntax`]).
+    #[tracked]
+    #[returns(copy)]
+    pub node_path: NodePath,
+    /// The length of the item's text.
+    #[tracked]
+    #[returns(copy)]
+    pub len: TextSize,
+    /// The range of a section's head (`:action`, `:objects`…: what is
+    /// first in its list), or of the `:init` keyword in the first chunk of
+    /// an `:init`; relative to the item. Read by diagnostics that point at
+    /// the section, so that they need not read its syntax.
+    #[tracked]
+    #[returns(copy)]
+    pub head: Option<TextRange>,
     /// Absolute offset of the item's first byte (read only to locate results).
     #[tracked]
     #[returns(copy)]
     pub offset: TextSize,
+}
+
+/// The syntax of an item: the one it holds, or, without [`syntax_in_items`],
+/// the one found in its file's tree.
+pub fn item_syntax<'db>(db: &'db dyn Db, item: Item<'db>) -> &'db ItemSyntax {
+    match item.syntax(db) {
+        Some(syntax) => syntax,
+        None => located_syntax(db, item),
+    }
+}
+
+/// The syntax of an item that does not hold it, found in its file's tree.
+/// Its memo may be evicted, as [`parse`]'s: the command line drops the trees
+/// once the items are lowered.
+#[salsa::tracked(returns(ref), lru = 0)]
+fn located_syntax<'db>(db: &'db dyn Db, item: Item<'db>) -> ItemSyntax {
+    let path = item.node_path(db);
+    let root = &parse(db, item.file(db)).green.0;
+    // The path was read from this tree by `file_units`, in the same revision.
+    let node = path.locate(root).map_or_else(
+        || rowan::GreenNode::new(SyntaxKind::Error.into(), std::iter::empty()),
+        |n| n.to_owned(),
+    );
+    match path.chunk {
+        Some(after_keyword) => ItemSyntax::Chunk { node: Green(node), after_keyword },
+        None => ItemSyntax::List(Green(node)),
+    }
+}
+
+/// Bounds how many memos of [`parse`] and of the syntax of items that do
+/// not hold it are kept between revisions (0: all).
+pub(crate) fn set_syntax_lru_capacity(db: &mut dyn Db, capacity: usize) {
+    parse::set_lru_capacity(db, capacity);
+    located_syntax::set_lru_capacity(db, capacity);
+}
+
+/// The range of the `:init` keyword among the first few children of the
+/// first chunk of an `:init` (it starts with `(` and `:init`), relative to it.
+fn init_keyword(node: &rowan::GreenNodeData) -> Option<TextRange> {
+    let mut at = TextSize::from(0);
+    for child in node.children().take(4) {
+        if let NodeOrToken::Token(t) = child
+            && t.text().eq_ignore_ascii_case(":init")
+        {
+            return Some(TextRange::at(at, t.text_len()));
+        }
+        at += child.text_len();
+    }
+    None
 }
 
 fn header_of(list: &GList<'_>) -> (UnitKind, Option<String>) {
@@ -199,17 +306,42 @@ fn header_of(list: &GList<'_>) -> (UnitKind, Option<String>) {
     (UnitKind::Unknown, None)
 }
 
-/// The `define` lists at the top level of a tree.
-fn defines(root: &rowan::GreenNodeData) -> impl Iterator<Item = GList<'_>> {
+/// The `define` lists at the top level of a tree, with their paths.
+fn defines(root: &rowan::GreenNodeData) -> impl Iterator<Item = (NodePath, GList<'_>)> {
     let mut at = TextSize::from(0);
-    root.children().filter_map(move |c| {
+    root.children().enumerate().filter_map(move |(i, c)| {
         let start = at;
         at += c.text_len();
         match c {
-            NodeOrToken::Node(n) => GList::root(n, start).filter(|l| l.head_is("define")),
+            NodeOrToken::Node(n) => {
+                GList::root(n, start).filter(|l| l.head_is("define")).map(|l| (NodePath::root().child(i), l))
+            }
             NodeOrToken::Token(_) => None,
         }
     })
+}
+
+/// The lists among the children of `list` (at `path`), seen through its
+/// groups, each with its path.
+fn child_lists<'a>(list: &GList<'a>, path: NodePath) -> Vec<(NodePath, GList<'a>)> {
+    let mut out = Vec::new();
+    for (i, (start, c)) in list.direct_children().enumerate() {
+        let NodeOrToken::Node(n) = c else { continue };
+        if n.kind() == SyntaxKind::Group.into() {
+            let mut at = start;
+            for (j, c) in n.children().enumerate() {
+                if let NodeOrToken::Node(m) = c
+                    && let Some(l) = GList::root(m, at)
+                {
+                    out.push((path.child(i).child(j), l));
+                }
+                at += c.text_len();
+            }
+        } else if let Some(l) = GList::root(n, start) {
+            out.push((path.child(i), l));
+        }
+    }
+    out
 }
 
 /// Whether a path names a plan file (docs/plan-formats.md): `.plan`, `.soln`,
@@ -264,35 +396,53 @@ pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
         return Vec::new();
     }
     let root = &parse(db, file).green.0;
+    let hold = syntax_in_items(db);
     let mut units = Vec::new();
-    for (index, list) in defines(root).enumerate() {
+    for (index, (path, list)) in defines(root).enumerate() {
         let index = index as u32;
         let (kind, name) = header_of(&list);
         let mut domain_ref = None;
         let mut items = Vec::new();
-        for child in list.elements().filter_map(|e| e.as_list().copied()) {
+        for (path, child) in child_lists(&list, path) {
             let section = Section::of(child.head_text());
             let offset = child.range().start();
             match section {
                 Section::Init => {
                     // One chunk per group of the list (the parser groups long
                     // lists), or the whole list when it is short.
-                    let groups: Vec<(TextSize, &rowan::GreenNodeData)> = child
+                    let groups: Vec<(NodePath, TextSize, &rowan::GreenNodeData)> = child
                         .direct_children()
-                        .filter_map(|(start, c)| match c {
-                            NodeOrToken::Node(n) if n.kind() == SyntaxKind::Group.into() => Some((start, n)),
+                        .enumerate()
+                        .filter_map(|(i, (start, c))| match c {
+                            NodeOrToken::Node(n) if n.kind() == SyntaxKind::Group.into() => {
+                                Some((path.child(i), start, n))
+                            }
                             _ => None,
                         })
                         .collect();
                     if groups.is_empty() {
-                        let syntax =
-                            ItemSyntax::Chunk { node: Green(child.green().to_owned()), after_keyword: true };
-                        items.push(Item::new(db, file, index, kind, section, None, syntax, offset));
+                        let node_path = NodePath { chunk: Some(true), ..path };
+                        let head = init_keyword(child.green());
+                        let len = child.green().text_len();
+                        let syntax = hold.then(|| ItemSyntax::Chunk {
+                            node: Green(child.green().to_owned()),
+                            after_keyword: true,
+                        });
+                        items.push(Item::new(
+                            db, file, index, kind, section, None, syntax, node_path, len, head, offset,
+                        ));
                     }
-                    for (k, (start, group)) in groups.into_iter().enumerate() {
-                        let syntax =
-                            ItemSyntax::Chunk { node: Green(group.to_owned()), after_keyword: k == 0 };
-                        items.push(Item::new(db, file, index, kind, section, None, syntax, start));
+                    for (k, (path, start, group)) in groups.into_iter().enumerate() {
+                        let node_path = NodePath { chunk: Some(k == 0), ..path };
+                        let head = if k == 0 { init_keyword(group) } else { None };
+                        let len = group.text_len();
+                        let syntax = hold.then(|| ItemSyntax::Chunk {
+                            node: Green(group.to_owned()),
+                            after_keyword: k == 0,
+                        });
+                        items.push(Item::new(
+                            db, file, index, kind, section, None, syntax, node_path, len, head, start,
+                        ));
                     }
                 }
                 _ => {
@@ -305,8 +455,12 @@ pub fn file_units(db: &dyn Db, file: SourceFile) -> Vec<Unit<'_>> {
                         Section::Action | Section::Task | Section::Method => second(),
                         _ => None,
                     };
-                    let syntax = ItemSyntax::List(Green(child.green().to_owned()));
-                    items.push(Item::new(db, file, index, kind, section, name, syntax, offset));
+                    let head = child.head().map(|h| h.range() - offset);
+                    let len = child.green().text_len();
+                    let syntax = hold.then(|| ItemSyntax::List(Green(child.green().to_owned())));
+                    items.push(Item::new(
+                        db, file, index, kind, section, name, syntax, path, len, head, offset,
+                    ));
                 }
             }
         }
@@ -420,7 +574,7 @@ pub fn scan_unit_headers(text: &str) -> Option<Vec<UnitHeader>> {
 /// Lowers one item to its model.
 #[salsa::tracked(returns(ref))]
 pub fn lower_item<'db>(db: &'db dyn Db, item: Item<'db>) -> Lowered {
-    match item.syntax(db) {
+    match item_syntax(db, item) {
         ItemSyntax::List(green) => model::lower_list(&green.0),
         ItemSyntax::Chunk { node, after_keyword } => model::lower_chunk(&node.0, usize::from(*after_keyword)),
     }

@@ -70,6 +70,9 @@ pub struct AnalysisHost {
     files: FxHashMap<String, SourceFile>,
     workspace: Option<Workspace>,
     settings: Option<Settings>,
+    /// An empty file outside the workspace, whose tree is the one
+    /// [`AnalysisHost::release_syntax`] keeps.
+    empty: Option<SourceFile>,
 }
 
 impl AnalysisHost {
@@ -115,6 +118,7 @@ impl AnalysisHost {
                 &self.db,
                 Settings::DEFAULT_TRIANGLE_TOLERANCE,
                 crate::input::ValidationOptions::default(),
+                true,
             )
         })
     }
@@ -184,6 +188,38 @@ impl AnalysisHost {
 
     pub fn files(&self) -> impl Iterator<Item = (&str, SourceFile)> {
         self.files.iter().map(|(p, f)| (p.as_str(), *f))
+    }
+
+    /// For a database that checks its files once (the command line): items
+    /// hold the path to their syntax, not the syntax, and the syntax trees
+    /// of the files can be dropped once the items are lowered
+    /// ([`AnalysisHost::release_syntax`]). Call before the first question:
+    /// salsa's LRU counts only the uses it sees after this. The language
+    /// server keeps every tree (re-parsing after an edit starts from the
+    /// old one) and items that hold their syntax (an edit then compares
+    /// each item's node with the old one, with no query per item).
+    pub fn drop_syntax_after_use(&mut self) {
+        crate::db::set_syntax_lru_capacity(&mut self.db, 1);
+        let s = self.settings();
+        if s.syntax_in_items(&self.db) {
+            s.set_syntax_in_items(&mut self.db).to(false);
+        }
+    }
+
+    /// After [`AnalysisHost::drop_syntax_after_use`], drops the syntax trees
+    /// read so far: the checks, once run, have lowered every item, and the
+    /// lints read the lowered models, not the syntax (a question that needs
+    /// a tree again parses its file again). salsa evicts at the start of a
+    /// revision and keeps the most recently used value of each query: an
+    /// empty file's tree, and one item's syntax (a section, or one group of
+    /// an `:init`). The memos stay valid: nothing is computed again that
+    /// does not need a tree.
+    pub fn release_syntax(&mut self) {
+        use salsa::Database;
+        let empty =
+            *self.empty.get_or_insert_with(|| SourceFile::new(&self.db, String::new(), Arc::from(""), None));
+        parse(&self.db, empty);
+        self.db.synthetic_write(salsa::Durability::LOW);
     }
 
     /// A snapshot to answer questions, possibly on another thread.

@@ -49,6 +49,12 @@ pub struct Settings {
     /// How plan files of the workspace are validated (tolerance, names).
     #[returns(copy)]
     pub plan_options: ValidationOptions,
+    /// Whether each item holds its syntax (the default), or only the path to
+    /// it in its file's tree, found again when needed: the command line,
+    /// which drops the trees once the items are lowered
+    /// ([`crate::AnalysisHost::drop_syntax_after_use`]).
+    #[returns(copy)]
+    pub syntax_in_items: bool,
 }
 
 impl Settings {
@@ -60,6 +66,11 @@ impl Settings {
 /// The triangle tolerance in force.
 pub fn triangle_tolerance(db: &dyn Db) -> f64 {
     Settings::try_get(db).map_or(Settings::DEFAULT_TRIANGLE_TOLERANCE, |s| s.triangle_tolerance(db))
+}
+
+/// Whether items hold their syntax ([`Settings::syntax_in_items`]).
+pub fn syntax_in_items(db: &dyn Db) -> bool {
+    Settings::try_get(db).is_none_or(|s| s.syntax_in_items(db))
 }
 
 /// The plan-validation options in force.

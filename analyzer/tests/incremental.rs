@@ -163,3 +163,62 @@ fn grounding_reruns_only_when_what_it_reads_changes() {
 fn quiet(diagnostics: &[hipop_analyzer::Diagnostic]) -> bool {
     diagnostics.iter().all(|d| d.severity == hipop_analyzer::Severity::Info)
 }
+
+/// The command line's path (`AnalysisHost::drop_syntax_after_use`): once the
+/// checks have lowered every item, the syntax trees are dropped, and the
+/// lints, which ground the problem, run on the lowered models without
+/// parsing again. The diagnostics are those of a host that keeps the trees.
+#[test]
+fn the_lints_run_without_the_dropped_trees() {
+    // More than 512 facts: the `:init` is in groups, each an item of its own.
+    let waypoints: String = (0..600).map(|i| format!(" w{i}")).collect();
+    let facts: String = (2..600).map(|i| format!("\n    (seen w{i})")).collect();
+    let problem = format!(
+        "(define (problem p) (:domain d)
+  (:objects r1 - robot{waypoints} - waypoint)
+  (:init (at-r r1 w0){facts})
+  (:goal (at-r r1 w599))
+  (:allowed-actions move))
+"
+    );
+    let mut keeping = AnalysisHost::new();
+    let kept: Vec<_> = ["d.pddl", "p.pddl"]
+        .iter()
+        .zip([DOMAIN, &problem])
+        .map(|(path, text)| keeping.set_file_text(path, text))
+        .collect();
+    let expected: Vec<_> = kept.iter().map(|&f| keeping.analysis().diagnostics(f).unwrap()).collect();
+    // A lint of the ground problem: `look` and `wait` are dead, on the
+    // section's keyword.
+    let keyword = TextSize::from(problem.find(":allowed-actions").unwrap() as u32);
+    assert!(expected[1].iter().any(|d| d.code.id == "W0311" && d.range.start() == keyword), "{expected:?}");
+
+    let (mut host, log) = host();
+    host.drop_syntax_after_use();
+    let files: Vec<_> = ["d.pddl", "p.pddl"]
+        .iter()
+        .zip([DOMAIN, &problem])
+        .map(|(path, text)| host.set_file_text(path, text))
+        .collect();
+    for &f in &files {
+        host.analysis().check_diagnostics(f).unwrap();
+    }
+    host.release_syntax();
+    log.lock().unwrap().clear();
+    let found: Vec<_> = files.iter().map(|&f| host.analysis().diagnostics(f).unwrap()).collect();
+    // The two databases number their files differently: compare the rest.
+    let shown = |all: &[Vec<hipop_analyzer::Diagnostic>]| -> Vec<String> {
+        let shown = |d: &hipop_analyzer::Diagnostic| {
+            let related: Vec<_> = d.related.iter().map(|r| (r.range, &r.message)).collect();
+            format!("{} {:?} {} {related:?} {:?}", d.code.id, d.range, d.message, d.fix.is_some())
+        };
+        all.iter().map(|ds| ds.iter().map(shown).collect::<Vec<_>>().join("\n")).collect()
+    };
+    assert_eq!(shown(&found), shown(&expected));
+    assert_eq!(executed(&log, "problem_lints"), 1, "{:?}", log.lock().unwrap());
+    assert_eq!(executed(&log, "parse"), 0, "{:?}", log.lock().unwrap());
+    assert_eq!(executed(&log, "located_syntax"), 0, "{:?}", log.lock().unwrap());
+    // The trees were dropped: asking for one parses its file again.
+    hipop_analyzer::db::parse(host.db(), files[1]);
+    assert_eq!(executed(&log, "parse"), 1, "{:?}", log.lock().unwrap());
+}

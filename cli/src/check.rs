@@ -6,7 +6,7 @@ use std::sync::Arc;
 use hipop_analyzer::db::{UnitHeader, UnitKind};
 use hipop_analyzer::fix::{apply_edits, select_fixes};
 use hipop_analyzer::semantics::resolve::independent_groups;
-use hipop_analyzer::{Analysis, AnalysisHost, Diagnostic, Fix, Severity, SourceFile, TextRange};
+use hipop_analyzer::{AnalysisHost, Diagnostic, Fix, Severity, SourceFile, TextRange};
 
 use crate::inputs::{Input, collect};
 use crate::render::{Rendered, Sources};
@@ -35,6 +35,7 @@ pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
     }
     let inputs = collect(paths);
     let mut host = AnalysisHost::new();
+    host.drop_syntax_after_use();
     host.set_triangle_tolerance(options.triangle_tolerance);
     let mut io_errors = Vec::new();
     let mut texts: Vec<(String, Arc<str>)> = Vec::new();
@@ -47,7 +48,7 @@ pub fn run(paths: &[std::path::PathBuf], options: &Options) -> u8 {
     let files: Vec<SourceFile> =
         texts.iter().map(|(path, text)| host.set_file_text(path, text.clone())).collect();
     let explain = options.explain == Some(crate::Explain::Families) && options.format == Format::Human;
-    let Some(checked) = check_groups(&host, &files, &texts, options, explain) else {
+    let Some(checked) = check_groups(&mut host, &files, &texts, options, explain) else {
         eprintln!("error: the analysis was interrupted; this is a bug in hipop, please report it");
         return 2;
     };
@@ -101,40 +102,59 @@ struct Checked {
 /// database, their files those of `host`. `None` if the analysis was
 /// cancelled, which nothing does while the CLI reads it.
 fn check_groups(
-    host: &AnalysisHost,
+    host: &mut AnalysisHost,
     files: &[SourceFile],
     texts: &[(String, Arc<str>)],
     options: &Options,
     explain: bool,
 ) -> Option<Vec<Checked>> {
-    let check = |analysis: &Analysis, f: SourceFile| -> Option<Checked> {
-        let diagnostics = analysis.diagnostics(f).ok()?;
-        let diagnostics = diagnostics.into_iter().filter(|d| !options.allow.contains(&d.code)).collect();
-        let families = if explain { analysis.explain_families(f).ok()? } else { Vec::new() };
-        Some(Checked { diagnostics, families })
-    };
     let groups = groups(texts);
     if groups.len() < 2 {
-        let analysis = host.analysis();
-        return files.iter().map(|&f| check(&analysis, f)).collect();
+        return check_all(host, files, options, explain);
     }
     let mut out: Vec<Checked> = files.iter().map(|_| Checked::default()).collect();
     for group in groups {
         let mut own = AnalysisHost::new();
+        own.drop_syntax_after_use();
         own.set_triangle_tolerance(options.triangle_tolerance);
         let own_files: Vec<SourceFile> =
             group.iter().map(|&i| own.set_file_text(&texts[i].0, texts[i].1.clone())).collect();
         // This group's files are the host's files at the same indices.
         let to_host: HashMap<SourceFile, SourceFile> =
             own_files.iter().zip(&group).map(|(&f, &i)| (f, files[i])).collect();
-        let analysis = own.analysis();
-        for (&f, &i) in own_files.iter().zip(&group) {
-            let mut c = check(&analysis, f)?;
+        for (mut c, &i) in check_all(&mut own, &own_files, options, explain)?.into_iter().zip(&group) {
             c.diagnostics.iter_mut().for_each(|d| relocate(d, &to_host));
             out[i] = c;
         }
     }
     Some(out)
+}
+
+/// Checks `files` of `host` (made with [`AnalysisHost::drop_syntax_after_use`]),
+/// one result per file: the checks first, which lower every item, then the
+/// syntax trees are dropped, then the lints, which ground the problems on
+/// the lowered models. The trees and the grounding are never held at once.
+fn check_all(
+    host: &mut AnalysisHost,
+    files: &[SourceFile],
+    options: &Options,
+    explain: bool,
+) -> Option<Vec<Checked>> {
+    {
+        let analysis = host.analysis();
+        for &f in files {
+            analysis.check_diagnostics(f).ok()?;
+        }
+    }
+    host.release_syntax();
+    let analysis = host.analysis();
+    let check = |f: SourceFile| -> Option<Checked> {
+        let diagnostics = analysis.diagnostics(f).ok()?;
+        let diagnostics = diagnostics.into_iter().filter(|d| !options.allow.contains(&d.code)).collect();
+        let families = if explain { analysis.explain_families(f).ok()? } else { Vec::new() };
+        Some(Checked { diagnostics, families })
+    };
+    files.iter().map(|&f| check(f)).collect()
 }
 
 /// The independent groups of the files, or one group of all when a file's

@@ -135,7 +135,7 @@ fn parameters(data: &ItemData, args: &[String]) -> String {
 fn end_of(db: &dyn Db, item: Item<'_>) -> TextRange {
     let start = item.offset(db);
     let file_text = item.file(db).text(db);
-    let text = &file_text[TextRange::at(start, item.syntax(db).text_len())];
+    let text = &file_text[TextRange::at(start, item.len(db))];
     let at = match text.trim_end().strip_suffix(')') {
         Some(inner) => inner.len(),
         None => text.len(),

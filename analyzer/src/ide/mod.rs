@@ -36,7 +36,7 @@ use crate::syntax::Lang;
 
 /// The absolute range of an item.
 pub fn item_range(db: &dyn Db, item: Item<'_>) -> TextRange {
-    let len = item.syntax(db).text_len();
+    let len = item.len(db);
     TextRange::at(item.offset(db), len)
 }
 
@@ -282,7 +282,7 @@ fn section_keyword(db: &dyn Db, item: Item<'_>) -> Option<TextRange> {
         }
         Err(false)
     }
-    let (ItemSyntax::List(green) | ItemSyntax::Chunk { node: green, .. }) = item.syntax(db);
+    let (ItemSyntax::List(green) | ItemSyntax::Chunk { node: green, .. }) = crate::db::item_syntax(db, item);
     first_atom(&green.0, item.offset(db)).ok()
 }
 

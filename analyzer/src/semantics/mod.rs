@@ -112,11 +112,9 @@ fn misplaced(db: &dyn Db, unit: Unit<'_>, item: Item<'_>, out: &mut Vec<Diagnost
     if item.section(db).belongs_to_domain().is_some_and(|d| d != in_domain) {
         let (here, there) = if in_domain { ("a domain", "problem") } else { ("a problem", "domain") };
         // The section keyword (`:init`), or the first fact of an `:init` chunk.
-        let span = match item.syntax(db) {
-            crate::db::ItemSyntax::List(g) => crate::syntax::GList::root(&g.0, 0.into())
-                .and_then(|l| l.head())
-                .map_or(TextRange::at(0.into(), 1.into()), |h| h.range()),
-            chunk => TextRange::at(0.into(), chunk.text_len().min(1.into())),
+        let span = match item.section(db) {
+            Section::Init => TextRange::at(0.into(), item.len(db).min(1.into())),
+            _ => item.head(db).unwrap_or(TextRange::at(0.into(), 1.into())),
         };
         if item.section(db) == Section::Init && item_is_later_chunk(db, unit, item) {
             return;
@@ -211,7 +209,7 @@ fn requirement_checks(db: &dyn Db, unit: Unit<'_>, out: &mut Vec<Diagnostic>) {
         }
         if let Some(r) = req_item {
             let (file, range) = (r.file(db), r.offset(db));
-            let len = r.syntax(db).text_len();
+            let len = r.len(db);
             let close = TextRange::empty(range + len - rowan::TextSize::from(1));
             d.related.push(Related {
                 file,
@@ -251,7 +249,7 @@ pub(crate) fn new_section_after(
     let item = items[after];
     let file = item.file(db);
     let text = file.text(db);
-    let end = item.offset(db) + item.syntax(db).text_len();
+    let end = item.offset(db) + item.len(db);
     let end_at = usize::from(end);
     let separator = match items.get(after + 1).map(|i| usize::from(i.offset(db))) {
         Some(n) if !text[end_at..n].contains('\n') => " ".to_string(),

@@ -76,11 +76,7 @@ fn allowed_actions<'db>(
 ) -> Option<(Item<'db>, rowan::TextRange, Vec<Name>)> {
     let item = problem.items(db).iter().copied().find(|i| i.section(db) == Section::AllowedActions)?;
     let ItemData::AllowedActions(names) = &crate::db::lower_item(db, item).data else { return None };
-    let keyword = match item.syntax(db) {
-        crate::db::ItemSyntax::List(g) => crate::syntax::GList::root(&g.0, 0.into()).and_then(|l| l.head()),
-        crate::db::ItemSyntax::Chunk { .. } => None,
-    };
-    let keyword = keyword.map_or(rowan::TextRange::at(0.into(), 1.into()), |h| h.range());
+    let keyword = item.head(db).unwrap_or(rowan::TextRange::at(0.into(), 1.into()));
     Some((item, keyword, names.clone()))
 }
 

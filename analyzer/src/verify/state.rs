@@ -7,10 +7,9 @@
 //! item-relative ([`Loc`]), never absolute, so that typing elsewhere in a file
 //! leaves these values equal.
 
-use rowan::TextRange;
 use rustc_hash::FxHashMap;
 
-use crate::db::{Db, Item, ItemSyntax, Section, Unit, lower_item};
+use crate::db::{Db, Item, Section, Unit, lower_item};
 use crate::model::{Fluent, InitElement, ItemData, NumExpr, Str, Term};
 use crate::semantics::symbols::{DomainSymbols, Loc, ProblemSymbols};
 
@@ -426,18 +425,11 @@ impl<'db> InitialState<'db> {
     /// The span of the `(:init` keyword in [`first_item`](Self::first_item).
     pub fn keyword_loc(&self, db: &'db dyn Db) -> Option<Loc<'db>> {
         let item = self.first_item?;
-        let ItemSyntax::Chunk { node, .. } = item.syntax(db) else { return None };
-        // The first chunk starts with `(` and `:init`; look at its first few tokens only.
-        let mut at = rowan::TextSize::from(0);
-        for child in node.0.children().take(4) {
-            if let rowan::NodeOrToken::Token(t) = child
-                && t.text().eq_ignore_ascii_case(":init")
-            {
-                return Some(Loc { item, span: TextRange::at(at, t.text_len()) });
-            }
-            at += child.text_len();
+        // Recorded when the items were made: the lints do not read the syntax.
+        if item.section(db) != Section::Init {
+            return None;
         }
-        None
+        item.head(db).map(|span| Loc { item, span })
     }
 }
 
