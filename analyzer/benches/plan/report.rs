@@ -269,7 +269,15 @@ pub(crate) fn report(
         );
     }
     // What the planner removed before returning its plans.
-    let solved: Vec<&Run> = runs.iter().filter(|r| r.solved()).collect();
+    // hipop's own runs: a peer's plans are not reduced, and a peer stopped
+    // by the time limit is killed by the harness, which says nothing of
+    // how hipop honours its limit.
+    let own: Vec<&Run> = pairs
+        .iter()
+        .filter(|(j, _)| !crate::peers::PEERS.contains(&j.config.as_str()))
+        .map(|(_, r)| *r)
+        .collect();
+    let solved: Vec<&Run> = own.iter().copied().filter(|r| r.solved()).collect();
     if let Some(slowest) = solved.iter().max_by(|a, b| a.removal.total_cmp(&b.removal)) {
         let _ = writeln!(
             out,
@@ -283,7 +291,7 @@ pub(crate) fn report(
         );
     }
     // The time limit is honoured when a run stopped by it ends soon after.
-    let over: Vec<f64> = runs
+    let over: Vec<f64> = own
         .iter()
         .filter(|r| r.status == "limit" && r.detail == "time")
         .map(|r| r.wall - a.limit())
@@ -291,9 +299,8 @@ pub(crate) fn report(
     if let Some(worst) = over.iter().copied().reduce(f64::max) {
         let _ = writeln!(
             out,
-            "**Time limit:** {} run{} stopped at the time limit ({} s); the longest ended {:.3} s after it (wall time in the child, grounding included).\n",
+            "**Time limit:** {} of hipop's runs stopped at the time limit ({} s); the longest ended {:.3} s after it (wall time in the child, grounding included).\n",
             over.len(),
-            if over.len() == 1 { "" } else { "s" },
             a.limit(),
             worst
         );
