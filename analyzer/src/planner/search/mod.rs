@@ -446,25 +446,18 @@ impl<'a, 'db> Search<'a, 'db> {
         stats: &mut Stats,
         best: &mut Option<Plan>,
     ) -> End2 {
+        let started = Instant::now();
         // Expansions stop making children at the limit only while the
         // search runs: the report of the best partial plan after it, which
-        // asks for resolvers too, gets them all.
-        self.until.set(limits.time.map(|t| Instant::now() + t.saturating_sub(limits.time_spent)));
-        let end = self.run_until(roots, limits, cancel, progress, stats, best);
-        self.until.set(None);
-        end
-    }
-
-    fn run_until(
-        &self,
-        roots: Vec<Plan>,
-        limits: &PlannerLimits,
-        cancel: &dyn Fn() -> bool,
-        progress: &mut dyn FnMut(&Progress),
-        stats: &mut Stats,
-        best: &mut Option<Plan>,
-    ) -> End2 {
-        let started = Instant::now();
+        // asks for resolvers too, gets them all, whichever way this returns.
+        struct Until<'s>(&'s std::cell::Cell<Option<Instant>>);
+        impl Drop for Until<'_> {
+            fn drop(&mut self) {
+                self.0.set(None);
+            }
+        }
+        self.until.set(limits.time.map(|t| started + t.saturating_sub(limits.time_spent)));
+        let _until = Until(&self.until);
         let mut heap = Open::new(self.lanes(limits), !limits.exits_after);
         let mut id = 0u64;
         // The most advanced plan: the fewest open links and abstract flaws
