@@ -346,6 +346,28 @@ mod tests {
     use crate::AnalysisHost;
     use crate::planner::PlannerLimits;
 
+    /// Compiles the problem `problem` of the HDDL domain `domain` and runs
+    /// `f` on its task and its heuristic.
+    fn with_heuristic(
+        domain: &str,
+        problem: &str,
+        f: impl FnOnce(&Task<'_>, &Heuristic) + std::panic::UnwindSafe,
+    ) {
+        let mut host = AnalysisHost::new();
+        host.set_file_text("domain.hddl", domain);
+        let pf = host.set_file_text("problem.hddl", problem);
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::db::file_units(db, pf)[0];
+                let task = match crate::planner::task::compile(db, unit, &PlannerLimits::default()) {
+                    Ok(task) => task,
+                    Err(_) => panic!("the problem does not compile"),
+                };
+                f(&task, &Heuristic::new(&task));
+            })
+            .expect("not cancelled");
+    }
+
     /// `deliver` has two methods: `far` (three drives, no precondition) and
     /// `near` (one drive, needing `(ready)`, which only `prepare` makes).
     /// The refinement estimate is the cheapest method's preconditions and
@@ -365,29 +387,18 @@ mod tests {
           (:action finish :parameters () :effect (done))
           (:action prepare :parameters () :effect (ready)))";
         let problem = "(define (problem p) (:domain d) (:htn :subtasks (and (get-ready) (deliver))) (:init))";
-        let mut host = AnalysisHost::new();
-        host.set_file_text("domain.hddl", domain);
-        let pf = host.set_file_text("problem.hddl", problem);
-        host.analysis()
-            .with_db(|db| {
-                let unit = crate::db::file_units(db, pf)[0];
-                let task = match crate::planner::task::compile(db, unit, &PlannerLimits::default()) {
-                    Ok(task) => task,
-                    Err(_) => panic!("the problem does not compile"),
-                };
-                let h = Heuristic::new(&task);
-                let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an operator");
-                let ready = task.ops[op("prepare")].effs[0].lit;
-                // One step each: `drive` costs ε and one unit of effort.
-                assert!((h.refine_cost[op("drive")] - EPS).abs() < 1e-9);
-                assert_eq!(h.refine_effort[op("drive")], 1.0);
-                // `near`: (ready) by `prepare`, then one drive; `far`: three
-                // drives; `never`: unreachable.
-                assert_eq!(h.lit_effort(ready), 1.0);
-                assert_eq!(h.refine_effort[op("deliver")], 1.0 + 1.0 + 1.0);
-                assert!((h.refine_cost[op("deliver")] - (h.lit_cost(ready) + EPS)).abs() < 1e-9);
-            })
-            .expect("not cancelled");
+        with_heuristic(domain, problem, |task, h| {
+            let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an operator");
+            let ready = task.ops[op("prepare")].effs[0].lit;
+            // One step each: `drive` costs ε and one unit of effort.
+            assert!((h.refine_cost[op("drive")] - EPS).abs() < 1e-9);
+            assert_eq!(h.refine_effort[op("drive")], 1.0);
+            // `near`: (ready) by `prepare`, then one drive; `far`: three
+            // drives; `never`: unreachable.
+            assert_eq!(h.lit_effort(ready), 1.0);
+            assert_eq!(h.refine_effort[op("deliver")], 1.0 + 1.0 + 1.0);
+            assert!((h.refine_cost[op("deliver")] - (h.lit_cost(ready) + EPS)).abs() < 1e-9);
+        });
     }
 
     /// What a task's refinements may add is what the elementary actions
@@ -420,31 +431,19 @@ mod tests {
         }
         domain.push(')');
         let problem = "(define (problem p) (:domain d) (:htn :subtasks (and (t0) (loop-a))) (:init))";
-        let mut host = AnalysisHost::new();
-        host.set_file_text("domain.hddl", domain);
-        let pf = host.set_file_text("problem.hddl", problem);
-        host.analysis()
-            .with_db(|db| {
-                let unit = crate::db::file_units(db, pf)[0];
-                let task = match crate::planner::task::compile(db, unit, &PlannerLimits::default()) {
-                    Ok(task) => task,
-                    Err(_) => panic!("the problem does not compile"),
-                };
-                let h = Heuristic::new(&task);
-                let op =
-                    |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an operator") as u32;
-                let p = task.ops[op("act") as usize].effs[0].lit;
-                let q = task.ops[op("other") as usize].effs[0].lit;
-                for i in 0..DEPTH {
-                    let t = op(&format!("t{i}"));
-                    assert!(h.may_add(t, p), "t{i} may add (p)");
-                    assert!(!h.may_add(t, q), "t{i} may not add (q)");
-                }
-                for name in ["loop-a", "loop-b"] {
-                    assert!(h.may_add(op(name), q), "{name} may add (q)");
-                    assert!(!h.may_add(op(name), p), "{name} may not add (p)");
-                }
-            })
-            .expect("not cancelled");
+        with_heuristic(&domain, problem, |task, h| {
+            let op = |name: &str| task.ops.iter().position(|o| &*o.name == name).expect("an operator") as u32;
+            let p = task.ops[op("act") as usize].effs[0].lit;
+            let q = task.ops[op("other") as usize].effs[0].lit;
+            for i in 0..DEPTH {
+                let t = op(&format!("t{i}"));
+                assert!(h.may_add(t, p), "t{i} may add (p)");
+                assert!(!h.may_add(t, q), "t{i} may not add (q)");
+            }
+            for name in ["loop-a", "loop-b"] {
+                assert!(h.may_add(op(name), q), "{name} may add (q)");
+                assert!(!h.may_add(op(name), p), "{name} may not add (p)");
+            }
+        });
     }
 }
