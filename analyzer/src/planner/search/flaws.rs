@@ -1,10 +1,12 @@
 //! Flaw selection (section 4.2.3 of the HiPOP paper): which flaw of a
 //! partial plan the search solves next. Threats that one ordering alone
-//! still solves are ordered in place; then open links (positions last:
-//! the itineraries), the abstract flaws that open links wait for, the
-//! delayed threats, the other abstract flaws in chronological order, and,
-//! in a plan without any of those, timed literals after the plan's end and
-//! interfering happenings too close together (VAL's mutex).
+//! still solves are ordered in place; then open links (in a purely
+//! hierarchical problem, one that a single step can support first;
+//! positions last: the itineraries), the abstract flaws that open links
+//! wait for, the delayed threats, the other abstract flaws in
+//! chronological order, and, in a plan without any of those, timed
+//! literals after the plan's end and interfering happenings too close
+//! together (VAL's mutex).
 
 use super::super::FlawOrder;
 use super::super::numeric;
@@ -16,10 +18,11 @@ use super::{Flaw, Search};
 impl Search<'_, '_> {
     /// Picks the flaw to solve (section 4.2.3): threats that have one
     /// ordering left are solved in place (and one with none ends the plan);
-    /// then open links (positions last: the itineraries), then the threats
-    /// that both orderings still solve (delayed: later choices often order
-    /// them, or leave one way only), then abstract flaws in chronological
-    /// order, then interfering happenings.
+    /// then open links (one a single step can support first, in a purely
+    /// hierarchical problem; positions last: the itineraries), then the
+    /// threats that both orderings still solve (delayed: later choices
+    /// often order them, or leave one way only), then abstract flaws in
+    /// chronological order, then interfering happenings.
     pub(super) fn select(&self, p: &mut Plan) -> Option<Flaw> {
         let task = self.task;
         if p.threats.iter().any(|t| !p.still_threat(task, t)) {
@@ -42,6 +45,9 @@ impl Search<'_, '_> {
         // Open links that are not visits and that no unrefined abstract
         // step may still support.
         let ready = self.ready_links(p);
+        if let Some(i) = self.forced_link(p, &ready) {
+            return Some(Flaw::Open(i));
+        }
         if !ready.is_empty() {
             let pick = match self.config.flaws {
                 FlawOrder::ThreatFirst => *ready.last().expect("non-empty"),
@@ -229,6 +235,28 @@ impl Search<'_, '_> {
     /// several producers each, and the search went through every way to
     /// link those first (a plan found dead at each leaf).
     pub(super) fn dead_link(&self, p: &Plan, ready: &[usize]) -> Option<usize> {
+        self.link_with_at_most(p, ready, 0)
+    }
+
+    /// In a problem where no step is ever inserted, a ready open link that
+    /// one step of the plan only can support: it is linked first, whatever
+    /// `local` order would choose (one child, no choice). The links of the
+    /// newest step with several producers each, chosen first, made the
+    /// search go through every way to link them before finding that a
+    /// forced link elsewhere cannot be made in any of them: IPC 2020
+    /// Transport links a truck's position at each stop many ways, and the
+    /// capacity level a `pick-up` needs, which one `drop` only makes, then
+    /// fails under each (docs/planner.md).
+    pub(super) fn forced_link(&self, p: &Plan, ready: &[usize]) -> Option<usize> {
+        if ready.len() < 2 {
+            return None;
+        }
+        self.link_with_at_most(p, ready, 1)
+    }
+
+    /// The first of the ready open links that at most `n` steps of the plan
+    /// can support, in a problem where no step is ever inserted.
+    fn link_with_at_most(&self, p: &Plan, ready: &[usize], n: usize) -> Option<usize> {
         if !self.task.achievers.is_empty() || ready.is_empty() {
             return None;
         }
@@ -240,7 +268,7 @@ impl Search<'_, '_> {
             if o.origin == OpenOrigin::AbstractEffect {
                 prod.retain(|&(s, _)| s != o.step && p.descends(s, o.step));
             }
-            prod.is_empty()
+            prod.len() <= n
         })
     }
 
