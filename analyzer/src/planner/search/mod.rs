@@ -229,6 +229,10 @@ pub struct Search<'a, 'db> {
     /// What each operator uses up, in a problem where no step is ever
     /// inserted ([`tokens`]).
     tokens: Option<tokens::Tokens>,
+    /// The search starts from a repair's start plans ([`Search::seeded`]):
+    /// their old steps ran, or run, from another state than the problem's
+    /// initial one, and [`Search::doomed`] does not apply.
+    from_seeds: std::cell::Cell<bool>,
 }
 
 /// How a search ended.
@@ -243,7 +247,16 @@ impl<'a, 'db> Search<'a, 'db> {
         let has_motion = config.motion != Motion::Off && task.motion.iter().any(|m| m.is_some());
         let geo = has_motion.then(|| Geo::new(task, h));
         let tokens = task.achievers.is_empty().then(|| tokens::Tokens::new(task));
-        Search { task, h, config, geo, loops: Default::default(), until: Default::default(), tokens }
+        Search {
+            task,
+            h,
+            config,
+            geo,
+            loops: Default::default(),
+            until: Default::default(),
+            tokens,
+            from_seeds: Default::default(),
+        }
     }
 
     /// Whether the time limit of the running search has passed. One

@@ -101,6 +101,7 @@ impl Search<'_, '_> {
     /// What the old schedule does not decide is left to the search.
     /// Returns the plans and, per plan step, its seed step.
     pub fn seeded(&self, seed: &Seed) -> Result<Vec<Seeded>, SeedError> {
+        self.from_seeds.set(true);
         let mut out = Vec::new();
         let mut last_error = SeedError::Inconsistent;
         for root in self.initial() {

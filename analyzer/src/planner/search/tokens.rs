@@ -82,9 +82,12 @@ impl Search<'_, '_> {
     /// Whether a plan of a problem where no step is ever inserted cannot
     /// lead to a plan: one of its steps can never run ([`Search::stuck`]),
     /// or a literal is used up more often than it is made
-    /// ([`Search::starved`]).
+    /// ([`Search::starved`]). Not in a repair: the old steps of its start
+    /// plans ran from another state than the initial one.
     pub(super) fn doomed(&self, p: &Plan) -> bool {
-        self.tokens.is_some() && (self.stuck(p).is_some() || self.starved(p).is_some())
+        self.tokens.is_some()
+            && !self.from_seeds.get()
+            && (self.stuck(p).is_some() || self.starved(p).is_some())
     }
 
     /// An elementary step of the plan whose conditions no run of the plan
