@@ -319,6 +319,25 @@ fn the_open_list_ranked_by_plan_size_finds_driverlog_plans() {
     assert_eq!(alone.status, Status::Limit(hipop_analyzer::planner::LimitKind::Nodes));
 }
 
+/// DriverLog `time` problem 8: `at` is no position family (drivers board
+/// trucks, packages are loaded), but the `at` of trucks is one, and with
+/// `types` the planner reasons on it: a step that puts a truck elsewhere
+/// while a link needs it in place threatens that link (Definition 13).
+/// 10,350 plans expanded; without it, more than 160,000 without a plan
+/// (docs/benchmarks.md, 2026-11-27).
+#[test]
+fn the_positions_of_trucks_are_a_family_of_their_own_with_types() {
+    let path = root().join("tests/planner/trucks-have-positions.pddl");
+    let nodes = PlannerLimits { nodes: Some(12_000), first: true, ..limits(600) };
+    let types = Config::parse("AR-time-local-motion-types").expect("a configuration");
+    assert!(types.types && !Config::default().types);
+    let (mut host, result) = plan(&path, &path, &types, &nodes);
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &path, &result);
+    let (_, without) = plan(&path, &path, &Config::default(), &nodes);
+    assert_eq!(without.status, Status::Limit(hipop_analyzer::planner::LimitKind::Nodes));
+}
+
 /// A greedy descent stays near the plan it starts from: on a ZenoTravel-like
 /// problem, the descent from the plan reached after 1,024 expansions took a
 /// shuttle's `leap` from a town to itself as the cheapest supporter of its

@@ -359,7 +359,7 @@ mod tests {
         host.analysis()
             .with_db(|db| {
                 let unit = crate::db::file_units(db, pf)[0];
-                let task = match crate::planner::task::compile(db, unit, &PlannerLimits::default()) {
+                let task = match crate::planner::task::compile(db, unit, &PlannerLimits::default(), false) {
                     Ok(task) => task,
                     Err(_) => panic!("the problem does not compile"),
                 };

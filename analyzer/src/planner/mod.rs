@@ -91,6 +91,10 @@ pub struct Config {
     /// turn with the makespan's (`nosteps`: the makespan's alone). Problems
     /// with an `:htn` use the makespan's alone.
     pub steps: bool,
+    /// `types`: a predicate that is no position family may be one for the
+    /// keys of one type (the `at` of trucks, where drivers and packages
+    /// have an `at` too), and the planner reasons on those families too.
+    pub types: bool,
 }
 
 impl Default for Config {
@@ -120,7 +124,8 @@ impl Config {
     /// `local`/`sorted`/`threatFirst` (open links; `local` without),
     /// `motion`/`ncm` (geometric reasoning; none without), `eager` (every
     /// threat first), `nolookahead` (no greedy completion), `nosteps` (no
-    /// open list ranked by plan size), `bare`. `bare` alone is the default configuration
+    /// open list ranked by plan size), `types` (position families of one
+    /// key type), `bare`. `bare` alone is the default configuration
     /// without abstract actions.
     pub fn parse(name: &str) -> Result<Config, String> {
         if name.eq_ignore_ascii_case("bare") {
@@ -134,6 +139,7 @@ impl Config {
             eager: false,
             lookahead: true,
             steps: true,
+            types: false,
         };
         for part in name.split('-').filter(|p| !p.is_empty()) {
             match part.to_ascii_lowercase().as_str() {
@@ -150,9 +156,10 @@ impl Config {
                 "eager" => c.eager = true,
                 "nolookahead" => c.lookahead = false,
                 "nosteps" => c.steps = false,
+                "types" => c.types = true,
                 other => {
                     return Err(format!(
-                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, bare)"
+                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, bare)"
                     ));
                 }
             }
@@ -189,6 +196,9 @@ impl Config {
         }
         if !self.steps {
             parts.push("nosteps");
+        }
+        if self.types {
+            parts.push("types");
         }
         parts.join("-")
     }
@@ -414,7 +424,7 @@ pub fn prepare<'db>(
             "the problem or its domain has errors: fix them before planning",
         )])));
     }
-    let mut task = match task::compile(db, problem, limits) {
+    let mut task = match task::compile(db, problem, limits, config.types) {
         Ok(t) => t,
         Err(unsupported) => {
             return Err(Box::new(refuse(

@@ -13,12 +13,13 @@
 //! chain. Property 6 (the triangle inequality) then holds by construction.
 
 use crate::db::{Db, Unit};
-use crate::verify::families::{planner_families, reachable_planner_families};
+use crate::verify::families::{is_member, planner_families, reachable_planner_families};
 
 use super::task::{End, MotionGroup, Task, atom_of, is_neg};
 
 /// Fills the family and motion tables of `task`.
-pub(super) fn families<'db>(db: &'db dyn Db, problem: Unit<'db>, task: &mut Task<'db>) {
+/// With `types`, the families of one key type too (`at ?truck *`).
+pub(super) fn families<'db>(db: &'db dyn Db, problem: Unit<'db>, task: &mut Task<'db>, types: bool) {
     let g = task.g;
     let fams = if task.goal_relevance {
         planner_families(db, problem)
@@ -27,10 +28,12 @@ pub(super) fn families<'db>(db: &'db dyn Db, problem: Unit<'db>, task: &mut Task
     };
     let mut group_keys: rustc_hash::FxHashMap<(u32, Vec<u32>), u32> = Default::default();
     let mut groups: Vec<(Vec<u32>, bool)> = Vec::new(); // positions, has moves
-    for f in &fams.confirmed {
+    let confirmed: Vec<_> =
+        fams.confirmed.iter().filter(|f| types || f.candidate.key_type.is_none()).collect();
+    for f in &confirmed {
         let has_moves = !f.moves.is_empty();
         for atom in 0..g.atoms.len() as u32 {
-            if g.atoms.pred(atom) != f.pred || g.atoms.args(atom).len() != f.candidate.arity as usize {
+            if !is_member(g, atom, f.pred, &f.candidate) {
                 continue;
             }
             let mut key = g.atoms.args(atom).to_vec();
@@ -49,8 +52,7 @@ pub(super) fn families<'db>(db: &'db dyn Db, problem: Unit<'db>, task: &mut Task
     // from-position, their only effects the to-position and its deletion.
     // Only moves of 𝒜: the chains of moves are steps the planner inserts (in
     // a pure HTN problem, none: moves come from methods).
-    let move_items: Vec<_> =
-        fams.confirmed.iter().flat_map(|f| f.moves.iter().map(|(item, _)| *item)).collect();
+    let move_items: Vec<_> = confirmed.iter().flat_map(|f| f.moves.iter().map(|(item, _)| *item)).collect();
     let mut edges: Vec<Vec<(u32, u32, f64, u32)>> = vec![Vec::new(); groups.len()];
     for (i, op) in task.ops.iter().enumerate() {
         if !move_items.contains(&op.item) || op.dead || !op.allowed {

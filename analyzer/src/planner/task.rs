@@ -692,11 +692,13 @@ fn agents(params: &[Typed], agent: &[crate::model::Name], args: &[ObjId]) -> Vec
 }
 
 /// Compiles a problem into a planning task, or says what the planner does
-/// not support in it.
+/// not support in it. `types`: the position families of one key type too
+/// (the configuration's `types`).
 pub fn compile<'db>(
     db: &'db dyn Db,
     problem: Unit<'db>,
     limits: &PlannerLimits,
+    types: bool,
 ) -> Result<Task<'db>, Vec<Unsupported<'db>>> {
     let none = |what: &str| {
         vec![Unsupported {
@@ -1203,7 +1205,7 @@ pub fn compile<'db>(
         op_touches: Vec::new(),
         numeric,
     };
-    super::motion::families(db, problem, &mut task);
+    super::motion::families(db, problem, &mut task, types);
     // Operators the numeric bounds ruled out support nothing.
     task.rebuild_achievers();
     task.index_effects();

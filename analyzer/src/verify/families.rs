@@ -27,7 +27,7 @@ use rustc_hash::FxHashMap;
 
 use crate::db::{Db, Item, Unit};
 use crate::diagnostic::codes;
-use crate::model::{NumExpr, Term};
+use crate::model::{NumExpr, Str, Term};
 use crate::semantics::symbols::Loc;
 
 use super::Lint;
@@ -98,24 +98,28 @@ const DETOURS_SHOWN: usize = 20;
 /// The position families of a problem, with the lints of their move actions.
 #[salsa::tracked(returns(ref))]
 pub fn families<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Families<'db> {
-    families_over(db, problem, ground(db, problem))
+    families_over(db, problem, ground(db, problem), false)
 }
 
 /// The position families over the planner's grounding
 /// ([`super::ground::ground_relevant`]): confirmed on the operators the
-/// planner has, with the same predicate ids.
+/// planner has, with the same predicate ids; with the families of one key
+/// type (`at ?truck *`) of the candidates that are not families, which the
+/// planner uses when its configuration says `types`.
 #[salsa::tracked(returns(ref))]
 pub fn planner_families<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Families<'db> {
-    families_over(db, problem, super::ground::ground_relevant(db, problem))
+    families_over(db, problem, super::ground::ground_relevant(db, problem), true)
 }
 
 /// The position families over [`super::ground::ground_planner`] (a repair's).
 #[salsa::tracked(returns(ref))]
 pub fn reachable_planner_families<'db>(db: &'db dyn Db, problem: Unit<'db>) -> Families<'db> {
-    families_over(db, problem, super::ground::ground_planner(db, problem))
+    families_over(db, problem, super::ground::ground_planner(db, problem), true)
 }
 
-fn families_over<'db>(db: &'db dyn Db, problem: Unit<'db>, g: &Ground<'db>) -> Families<'db> {
+/// The families over `g`; with `typed`, also the families of one key type
+/// of the candidates that are not families ([`key_types`]).
+fn families_over<'db>(db: &'db dyn Db, problem: Unit<'db>, g: &Ground<'db>, typed: bool) -> Families<'db> {
     let mut out = Families::default();
     let Some(domain) = crate::semantics::check::domain_for(db, problem) else { return out };
     if g.truncated {
@@ -142,10 +146,73 @@ fn families_over<'db>(db: &'db dyn Db, problem: Unit<'db>, g: &Ground<'db>) -> F
             Err(mut rejected) => {
                 rejected.has_move = g.operators.iter().any(|op| move_of(g, op, pred, &candidate).is_some());
                 out.rejected.push(*rejected);
+                // The same predicate for the keys of one type: the `at` of
+                // trucks is a family when that of drivers is not.
+                let mut split: Vec<Str> = Vec::new();
+                let split_by_type = if typed { key_types(g, symbols, &candidate, pred) } else { Vec::new() };
+                for typed in split_by_type {
+                    let t = typed.key_type.clone().expect("a key type");
+                    // A subtype of a type confirmed already: its keys are in that family.
+                    let within = |done: &Str| symbols.ancestors.get(&t).is_some_and(|a| a.contains(done));
+                    if split.iter().any(within) {
+                        continue;
+                    }
+                    // Keys that nothing moves (Depots' pallets) are no family worth naming.
+                    let moved =
+                        g.operators.iter().any(|op| g.add(op).iter().any(|&a| is_member(g, a, pred, &typed)));
+                    if !moved {
+                        continue;
+                    }
+                    if let Ok(family) = check(db, g, symbols, &typed, pred, decl) {
+                        split.push(t);
+                        if out.hipop || !family.moves.is_empty() {
+                            moves(db, g, &family, tolerance, out.init, &mut out.lints);
+                        }
+                        out.confirmed.push(family);
+                    }
+                }
             }
         }
     }
     out
+}
+
+/// The candidates of one key type each that a rejected candidate of two
+/// arguments splits into: one per type that some of its keys have and not
+/// all of them (the whole was rejected), the types with the most keys
+/// first (a supertype before its subtypes).
+fn key_types(
+    g: &Ground<'_>,
+    symbols: &crate::semantics::symbols::DomainSymbols<'_>,
+    c: &Candidate,
+    pred: PredId,
+) -> Vec<Candidate> {
+    if c.arity != 2 || c.key_type.is_some() {
+        return Vec::new();
+    }
+    let key_param = if c.pos == 0 { 1 } else { 0 };
+    let mut keys: Vec<ObjId> = symbols
+        .predicates
+        .get(&c.pred)
+        .and_then(|sig| sig.params.get(key_param))
+        .map(|types| g.objects.of_types(types))
+        .unwrap_or_default();
+    for atom in 0..g.atoms.len() as AtomId {
+        if g.atoms.pred(atom) == pred && g.atoms.args(atom).len() == 2 {
+            keys.push(g.atoms.args(atom)[key_param]);
+        }
+    }
+    keys.sort_unstable();
+    keys.dedup();
+    let mut types: FxHashMap<&str, usize> = FxHashMap::default();
+    for &k in &keys {
+        for t in g.objects.types(k) {
+            *types.entry(t.as_str()).or_default() += 1;
+        }
+    }
+    let mut types: Vec<(&str, usize)> = types.into_iter().filter(|&(_, n)| n < keys.len()).collect();
+    types.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+    types.into_iter().map(|(t, _)| Candidate { key_type: Some(t.into()), ..c.clone() }).collect()
 }
 
 /// Whether a domain or its problem uses the HiPOP extensions (HiPOP paper,
@@ -175,8 +242,15 @@ fn split(g: &Ground<'_>, atom: AtomId, c: &Candidate) -> (Vec<ObjId>, ObjId) {
     (key, pos)
 }
 
-fn is_member(g: &Ground<'_>, atom: AtomId, pred: PredId, c: &Candidate) -> bool {
-    g.atoms.pred(atom) == pred && g.atoms.args(atom).len() == c.arity as usize
+/// Whether an atom is one of the candidate's: its predicate and arity, and
+/// for a candidate of one key type, a key of that type.
+pub fn is_member(g: &Ground<'_>, atom: AtomId, pred: PredId, c: &Candidate) -> bool {
+    g.atoms.pred(atom) == pred
+        && g.atoms.args(atom).len() == c.arity as usize
+        && c.key_type.as_ref().is_none_or(|t| {
+            let key = g.atoms.args(atom)[if c.pos == 0 { 1 } else { 0 }];
+            g.objects.has_type(key, t)
+        })
 }
 
 fn check<'db>(
@@ -203,7 +277,9 @@ fn check<'db>(
         let key_param = if c.pos == 0 { 1 } else { 0 };
         if let Some(types) = symbols.predicates.get(&c.pred).and_then(|sig| sig.params.get(key_param)) {
             for o in g.objects.of_types(types) {
-                initial.entry(vec![o]).or_default();
+                if c.key_type.as_ref().is_none_or(|t| g.objects.has_type(o, t)) {
+                    initial.entry(vec![o]).or_default();
+                }
             }
         }
     }
@@ -580,6 +656,11 @@ impl std::fmt::Display for Pattern<'_> {
         write!(f, "{}", self.0.pred)?;
         for i in 0..self.0.arity {
             f.write_str(if i == self.0.pos { " *" } else { " ?" })?;
+            if i != self.0.pos
+                && let Some(t) = &self.0.key_type
+            {
+                f.write_str(t)?;
+            }
         }
         Ok(())
     }

@@ -9,11 +9,17 @@ use super::lifted::Operator;
 /// A candidate position family, lifted: predicate `pred` whose argument `pos`
 /// is the position and whose other arguments say whose position it is
 /// (`at-r ?r *` is `pred = at-r, pos = 1`).
+///
+/// `key_type` restricts a predicate of two arguments to the keys of one type
+/// (`at ?truck *`: the `at` of trucks): a predicate that several types share
+/// (DriverLog's `at` of drivers, trucks and packages) may be a family for
+/// one of them only.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Candidate {
     pub pred: Str,
     pub arity: u32,
     pub pos: u32,
+    pub key_type: Option<Str>,
 }
 
 /// The candidates a domain's operators suggest: an operator that deletes
@@ -28,8 +34,12 @@ pub fn candidates<'a>(operators: impl IntoIterator<Item = &'a Operator>) -> Vec<
             for add in op.add.iter().filter(|a| a.pred == del.pred && a.args.len() == del.args.len()) {
                 let mut differ = add.args.iter().zip(&del.args).enumerate().filter(|(_, (a, d))| a != d);
                 let (Some((pos, _)), None) = (differ.next(), differ.next()) else { continue };
-                let candidate =
-                    Candidate { pred: del.pred.clone(), arity: del.args.len() as u32, pos: pos as u32 };
+                let candidate = Candidate {
+                    pred: del.pred.clone(),
+                    arity: del.args.len() as u32,
+                    pos: pos as u32,
+                    key_type: None,
+                };
                 if !out.contains(&candidate) {
                     out.push(candidate);
                 }
@@ -154,6 +164,6 @@ mod tests {
               (:action pick :parameters (?r ?o)
                :precondition (free ?r) :effect (and (not (free ?r)) (holding ?r ?o))))",
         );
-        assert_eq!(candidates(&ops), vec![Candidate { pred: "at".into(), arity: 2, pos: 1 }]);
+        assert_eq!(candidates(&ops), vec![Candidate { pred: "at".into(), arity: 2, pos: 1, key_type: None }]);
     }
 }
