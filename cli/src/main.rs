@@ -26,6 +26,24 @@ use clap::{Parser, Subcommand, ValueEnum};
 static GLOBAL: hipop_analyzer::alloc::Counting<mimalloc::MiMalloc> =
     hipop_analyzer::alloc::Counting::new(mimalloc::MiMalloc);
 
+/// Returns the memory the allocator holds free to the system at once
+/// (mimalloc's `mi_collect(true)`). `hipop check` calls it once the syntax
+/// trees are dropped: mimalloc keeps their pages, free, for its small
+/// blocks, and returns them only after a delay longer than a check, while
+/// the lints' grounding allocates large arrays it cannot place there, so
+/// that the trees and the grounding both counted in the resident set
+/// (docs/benchmarks.md).
+pub(crate) fn return_free_memory() {
+    // The function is in the mimalloc library linked above; the `mimalloc`
+    // crate declares it only with its `extended` feature.
+    unsafe extern "C" {
+        fn mi_collect(force: bool);
+    }
+    // SAFETY: `mi_collect` takes a C `bool` (one byte, as Rust's), may be
+    // called from any thread at any time, and only returns free memory.
+    unsafe { mi_collect(true) }
+}
+
 /// Check multi-robot missions written in extended HTN-PDDL (PDDL 2.1 temporal
 /// domains, HDDL hierarchical domains and the HiPOP extensions), and serve them
 /// to editors.

@@ -53,7 +53,7 @@ fn with(goal: &str, f: impl FnOnce(&World<'_, '_>, &State, &Gd, &[&Action])) {
     for &(a, _) in &init.facts {
         state.set(a, true);
     }
-    for (key, (v, _)) in &init.fluents {
+    for (key, (v, _)) in init.fluents.iter() {
         let f = state.fluent(key);
         state.set_value(f, Some(*v));
     }

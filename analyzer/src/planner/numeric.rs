@@ -92,7 +92,7 @@ impl Numeric {
 
     pub(crate) fn new(init: &crate::verify::state::InitialState<'_>) -> Numeric {
         let mut state = State::default();
-        let mut fluents: Vec<(&[u32], f64)> = init.fluents.iter().map(|(k, (v, _))| (&**k, *v)).collect();
+        let mut fluents: Vec<(&[u32], f64)> = init.fluents.iter().map(|(k, (v, _))| (k, *v)).collect();
         fluents.sort_by(|a, b| a.0.cmp(b.0));
         for (key, v) in fluents {
             let id = state.fluent(key);

@@ -1201,6 +1201,35 @@ mod tests {
         });
     }
 
+    /// The values `:init` gives numeric fluents: the first of a fluent set
+    /// twice, found by function and arguments, listed in the order written.
+    #[test]
+    fn initial_fluent_values_keep_the_first_in_the_order_written() {
+        let dom = "(define (domain d) (:requirements :fluents)
+            (:functions (dist ?a ?b) (fuel))
+            (:action go :parameters (?a ?b) :precondition (> (dist ?a ?b) 0) :effect (decrease (fuel) 1)))";
+        let prob = "(define (problem p) (:domain d) (:objects x y)
+            (:init (= (dist y x) 4) (= (fuel) 10) (= (dist x y) 2) (= (dist y x) 5)) (:goal (and)))";
+        with_problem(dom, prob, |db, unit| {
+            let g = ground(db, unit);
+            let f = |name: &str| g.functions.get(name).unwrap();
+            let o = |name: &str| g.objects.id(name).unwrap();
+            let value = |func: &str, args: &[&str]| {
+                let args: Vec<ObjId> = args.iter().map(|a| o(a)).collect();
+                g.init.fluent(f(func), &args).map(|(v, _)| v)
+            };
+            assert_eq!(value("dist", &["y", "x"]), Some(4.0));
+            assert_eq!(value("dist", &["x", "y"]), Some(2.0));
+            assert_eq!(value("fuel", &[]), Some(10.0));
+            assert_eq!(value("dist", &["x", "x"]), None);
+            let written: Vec<(Vec<u32>, f64)> =
+                g.init.fluents.iter().map(|(k, &(v, _))| (k.to_vec(), v)).collect();
+            let (dist, fuel, x, y) = (f("dist"), f("fuel"), o("x"), o("y"));
+            assert_eq!(written, [(vec![dist, y, x], 4.0), (vec![fuel], 10.0), (vec![dist, x, y], 2.0)]);
+            assert_eq!(g.init.fluents.len(), 3);
+        });
+    }
+
     /// A host with a domain and a problem; `f` gets the problem's unit.
     fn with_problem<T>(domain: &str, problem: &str, f: impl FnOnce(&dyn Db, Unit<'_>) -> T) -> T {
         let mut host = AnalysisHost::new();

@@ -843,16 +843,7 @@ pub(crate) fn fixpoint(
         .iter()
         .map(|op| (!op.spec.disabled).then(|| Plan::new(&op.spec, None, &mut indexes, &facts, atoms)))
         .collect();
-    // The seeded plans, by the predicate of their seed.
-    let mut seeded: FxHashMap<PredId, SeededPlans> = FxHashMap::default();
-    for (i, op) in ops.iter().enumerate().filter(|(_, op)| !op.spec.disabled) {
-        for j in 0..op.spec.pos.len() {
-            let plan = Plan::new(&op.spec, Some(j), &mut indexes, &facts, atoms);
-            if let Some(p) = plan.seed_pred(&op.spec) {
-                seeded.entry(p).or_default().push(i, plan, &op.spec.pos[j].args);
-            }
-        }
-    }
+    let seeded = seeded_plans(ops, &mut indexes, &facts, atoms);
     let mut matching: Vec<u32> = Vec::new();
 
     let mut instances = Instances::new(ops.iter().map(|op| op.spec.domains.len() as u32).collect());
@@ -931,6 +922,57 @@ pub(crate) fn fixpoint(
     Fixpoint { instances, reached: facts.into_reached(), truncated }
 }
 
+/// The seeded plans of `ops`, by the predicate of their seed. A plan is
+/// seeded by an atom newly reached, which some operator adds: none for a
+/// precondition whose predicate no operator adds (`has-type` in the Airport
+/// domains), nor for a ground one already reached (most of the Airport's
+/// `not_blocked` conditions, true from the start).
+fn seeded_plans(
+    ops: &[&OpInput],
+    indexes: &mut Indexes,
+    facts: &Facts,
+    atoms: &Atoms,
+) -> FxHashMap<PredId, SeededPlans> {
+    let added = added_preds(ops);
+    let mut key = Vec::new();
+    let mut may_seed = |a: &CAtom| {
+        if !added.get(a.pred as usize).copied().unwrap_or(false) {
+            return false;
+        }
+        if a.params().next().is_some() {
+            return true;
+        }
+        a.key(&[], &mut key);
+        atoms.get(&key).is_none_or(|id| !facts.holds(id))
+    };
+    let mut seeded: FxHashMap<PredId, SeededPlans> = FxHashMap::default();
+    for (i, op) in ops.iter().enumerate().filter(|(_, op)| !op.spec.disabled) {
+        for (j, a) in op.spec.pos.iter().enumerate() {
+            if !may_seed(a) {
+                continue;
+            }
+            let plan = Plan::new(&op.spec, Some(j), indexes, facts, atoms);
+            if let Some(p) = plan.seed_pred(&op.spec) {
+                seeded.entry(p).or_default().push(i, plan, &a.args);
+            }
+        }
+    }
+    seeded
+}
+
+/// Whether some operator of `ops` adds atoms of each predicate, by id.
+fn added_preds(ops: &[&OpInput]) -> Vec<bool> {
+    let mut added = Vec::new();
+    for a in ops.iter().flat_map(|op| &op.add) {
+        let p = a.pred as usize;
+        if added.len() <= p {
+            added.resize(p + 1, false);
+        }
+        added[p] = true;
+    }
+    added
+}
+
 /// Every binding of `spec` over the atoms `reached` (no fixpoint: methods).
 pub(crate) fn instances_over(
     spec: &Spec,
@@ -942,4 +984,47 @@ pub(crate) fn instances_over(
     let mut indexes = Indexes::default();
     let plan = Plan::new(spec, None, &mut indexes, facts, atoms);
     Search { spec, indexes: &indexes, facts, atoms, budget }.run(&plan, emit)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn atom(pred: PredId, args: &[Arg]) -> CAtom {
+        CAtom { pred, args: args.to_vec() }
+    }
+
+    /// A plan is seeded only by what may be newly reached: not by a
+    /// predicate no operator adds, nor by a ground atom true from the start.
+    #[test]
+    fn plans_are_seeded_only_by_atoms_that_may_be_reached() {
+        // Predicates: 0 static, 1 and 2 added; objects 0 and 1.
+        let (x, o0, o1) = (Arg::Param(0), Arg::Obj(0), Arg::Obj(1));
+        let spec = Spec {
+            domains: vec![vec![0, 1]],
+            fits: vec![vec![true, true]],
+            pos: vec![atom(0, &[x]), atom(1, &[o0]), atom(1, &[o1]), atom(2, &[x])],
+            neg_static: Vec::new(),
+            eq: Vec::new(),
+            neq: Vec::new(),
+            disabled: false,
+        };
+        let op = OpInput { spec, add: vec![atom(1, &[x]), atom(2, &[x])] };
+        let mut atoms = Atoms::default();
+        let start = [atoms.intern(&[0, 0]), atoms.intern(&[0, 1]), atoms.intern(&[1, 0])];
+        let mut facts = Facts::new(Vec::new());
+        for a in start {
+            facts.add(a, &atoms);
+        }
+        let seeded = seeded_plans(&[&op], &mut Indexes::default(), &facts, &atoms);
+        let seeds = |p: PredId| seeded.get(&p).map_or(0, |s| s.plans.len());
+        assert_eq!((seeds(0), seeds(1), seeds(2)), (0, 1, 1));
+        // The plan of predicate 1 is seeded by `(1 o1)`, not yet reached.
+        assert_eq!(seeded[&1].by_object.keys().collect::<Vec<_>>(), [&(0, 1)]);
+
+        // The reachable instances are those of every plan.
+        let mut budget = u64::MAX;
+        let fix = fixpoint(&[&op], &mut atoms, &start, Vec::new(), &mut budget, usize::MAX);
+        assert!(fix.instances.len() == 0 && !fix.truncated);
+    }
 }

@@ -205,6 +205,15 @@ fn hash_key(key: &[u32]) -> u64 {
 }
 
 impl Atoms {
+    /// Room for `atoms` atoms of `key_len` numbers in all (predicates included).
+    fn with_capacity(atoms: usize, key_len: usize) -> Atoms {
+        Atoms {
+            data: Vec::with_capacity(key_len),
+            starts: Vec::with_capacity(atoms + 1),
+            index: AtomIndex(hashbrown::HashTable::with_capacity(atoms)),
+        }
+    }
+
     fn key(&self, atom: AtomId) -> &[u32] {
         let i = atom as usize;
         match (self.starts.get(i), self.starts.get(i + 1)) {
@@ -288,7 +297,7 @@ pub struct InitialState<'db> {
     pub timed: Vec<TimedLiteral<'db>>,
     /// `(= (f objs…) v)`: the value and the location of the `=` fact, by
     /// `[func, args…]`. A fluent set twice keeps its first value.
-    pub fluents: FxHashMap<Box<[u32]>, (f64, Loc<'db>)>,
+    pub fluents: FluentValues<'db>,
     /// `(= (f objs…) obj)` (object fluents), by `[func, args…]`.
     pub object_fluents: FxHashMap<Box<[u32]>, (ObjId, Loc<'db>)>,
     /// Whether an atom is true at the start, by id (atoms met after `:init` are false).
@@ -300,6 +309,50 @@ pub struct InitialState<'db> {
     dense: DenseFluents,
     /// The first `:init` item, to point at the initial state as a whole.
     pub first_item: Option<Item<'db>>,
+}
+
+/// The values `:init` gives numeric fluents, by `[func, args…]`, in the
+/// order written. The keys are stored back to back as [`Atoms`] stores
+/// atoms (4 bytes of table an entry), not as a hash map of boxed keys: a
+/// Satellite problem sets 77,562 `slew_time` values, which took 82 bytes
+/// each and an allocation, and take about 45.
+#[derive(Debug, Clone, PartialEq, Default, salsa::SalsaValue)]
+pub struct FluentValues<'db> {
+    keys: Atoms,
+    /// The value of each key, by its id in `keys`, and the `=` fact.
+    values: Vec<(f64, Loc<'db>)>,
+}
+
+impl<'db> FluentValues<'db> {
+    /// Room for `values` keys of `key_len` numbers in all.
+    fn with_capacity(values: usize, key_len: usize) -> Self {
+        FluentValues { keys: Atoms::with_capacity(values, key_len), values: Vec::with_capacity(values) }
+    }
+
+    /// Sets `key` to `value`, unless it has a value already (the first is kept).
+    pub fn insert_first(&mut self, key: &[u32], value: (f64, Loc<'db>)) {
+        if self.keys.intern(key) as usize == self.values.len() {
+            self.values.push(value);
+        }
+    }
+
+    /// The value of `key` (`[func, args…]`) and where it is set.
+    pub fn get(&self, key: &[u32]) -> Option<&(f64, Loc<'db>)> {
+        self.keys.get(key).map(|id| &self.values[id as usize])
+    }
+
+    /// Every key and its value, in the order written.
+    pub fn iter(&self) -> impl Iterator<Item = (&[u32], &(f64, Loc<'db>))> + '_ {
+        self.values.iter().enumerate().map(|(id, v)| (self.keys.key(id as AtomId), v))
+    }
+
+    pub fn len(&self) -> usize {
+        self.values.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
 }
 
 /// Per function (by id), its arity and its values by argument tuple,
@@ -326,10 +379,10 @@ impl DenseFluents {
     /// `:init` gives it: sparse functions keep the hash table alone.
     const MAX_ENTRIES: usize = 1 << 22;
 
-    fn new(fluents: &FxHashMap<Box<[u32]>, (f64, Loc<'_>)>, objects: usize) -> DenseFluents {
+    fn new(fluents: &FluentValues<'_>, objects: usize) -> DenseFluents {
         // Per function: its arity (None when two values disagree on it) and count.
         let mut shape: Vec<(Option<usize>, usize)> = Vec::new();
-        for key in fluents.keys() {
+        for (key, _) in fluents.iter() {
             let (f, arity) = (key[0] as usize, key.len() - 1);
             if shape.len() <= f {
                 shape.resize(f + 1, (None, 0));
@@ -351,7 +404,7 @@ impl DenseFluents {
             })
             .collect();
         let mut out = DenseFluents { objects, values };
-        for (key, &(v, _)) in fluents {
+        for (key, &(v, _)) in fluents.iter() {
             if let Some(i) = out.slot(key[0], &key[1..]) {
                 out.values[key[0] as usize].1[i] = v;
             }
@@ -444,8 +497,23 @@ pub(crate) fn initial_state<'db>(
     atoms: &mut Atoms,
 ) -> InitialState<'db> {
     let mut init = InitialState::default();
+    let init_items = || problem.items(db).iter().filter(|i| i.section(db) == Section::Init);
+    // The room the values take, reserved at once: a table grown by
+    // doubling holds up to twice what it needs when the ground operators
+    // are built next to it.
+    let (mut values, mut key_len) = (0, 0);
+    for &item in init_items() {
+        let ItemData::Init(elements) = &lower_item(db, item).data else { continue };
+        for e in elements {
+            if let InitElement::Assign(f, ..) = e {
+                values += 1;
+                key_len += 1 + f.args.len();
+            }
+        }
+    }
+    init.fluents = FluentValues::with_capacity(values, key_len);
     let mut key: Vec<u32> = Vec::new();
-    for &item in problem.items(db).iter().filter(|i| i.section(db) == Section::Init) {
+    for &item in init_items() {
         init.first_item.get_or_insert(item);
         let ItemData::Init(elements) = &lower_item(db, item).data else { continue };
         let loc = |span| Loc { item, span };
@@ -465,7 +533,7 @@ pub(crate) fn initial_state<'db>(
                 }
                 InitElement::Assign(f, v, span) => {
                     if let (true, Some(v)) = (fluent_key(funcs, f, objects, &mut key), constant(v)) {
-                        init.fluents.entry(key.as_slice().into()).or_insert((v, loc(*span)));
+                        init.fluents.insert_first(&key, (v, loc(*span)));
                     }
                 }
                 InitElement::AssignObject(f, o, span) => {
