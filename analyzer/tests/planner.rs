@@ -338,6 +338,21 @@ fn the_positions_of_trucks_are_a_family_of_their_own_with_types() {
     assert_eq!(without.status, Status::Limit(hipop_analyzer::planner::LimitKind::Nodes));
 }
 
+/// Depots time-simple problem 10: with `types`, the `at` of trucks is a
+/// family with a move action (`drive`), used for threats and the last
+/// known position but not for itineraries: 3,660 plans expanded. With
+/// itineraries (`a24ad51`), more than 27,000 without a plan; the default
+/// configuration needs 4,000 (docs/benchmarks.md, 2026-11-27).
+#[test]
+fn families_of_one_key_type_have_no_itineraries() {
+    let path = root().join("tests/planner/trucks-visits-not-sequenced.pddl");
+    let nodes = PlannerLimits { nodes: Some(3800), first: true, ..limits(600) };
+    let types = Config::parse("AR-time-local-motion-types").expect("a configuration");
+    let (mut host, result) = plan(&path, &path, &types, &nodes);
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &path, &result);
+}
+
 /// A greedy descent stays near the plan it starts from: on a ZenoTravel-like
 /// problem, the descent from the plan reached after 1,024 expansions took a
 /// shuttle's `leap` from a town to itself as the cheapest supporter of its

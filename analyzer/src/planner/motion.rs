@@ -31,7 +31,10 @@ pub(super) fn families<'db>(db: &'db dyn Db, problem: Unit<'db>, task: &mut Task
     let confirmed: Vec<_> =
         fams.confirmed.iter().filter(|f| types || f.candidate.key_type.is_none()).collect();
     for f in &confirmed {
-        let has_moves = !f.moves.is_empty();
+        // A family of one key type is for threats and the last known
+        // position only: no itineraries (Depots' trucks: their visits
+        // sequenced one by one made the searches longer, docs/planner.md).
+        let has_moves = !f.moves.is_empty() && f.candidate.key_type.is_none();
         for atom in 0..g.atoms.len() as u32 {
             if !is_member(g, atom, f.pred, &f.candidate) {
                 continue;
