@@ -471,7 +471,14 @@ impl Analysis {
     ) -> Cancellable<Option<PlanningResult>> {
         let db = &self.db;
         let run = AssertUnwindSafe(move || {
+            // The time limit counts the parse and the checks too (a large
+            // problem's, on a loaded machine, took a second).
+            let started = std::time::Instant::now();
             let unit = first_problem(db, problem)?;
+            let limits = &crate::planner::PlannerLimits {
+                time_spent: limits.time_spent + started.elapsed(),
+                ..limits.clone()
+            };
             let cancel = || {
                 // A pending change of the inputs stops the search (the
                 // change waits for this snapshot to be dropped).
@@ -506,10 +513,16 @@ impl Analysis {
     ) -> Cancellable<Option<RepairResult>> {
         let db = &self.db;
         let run = AssertUnwindSafe(move || {
+            // The time limit counts the parse and the checks too.
+            let started = std::time::Instant::now();
             let unit = first_problem(db, problem)?;
             let plan = match format {
                 Some(f) => crate::plan::parse_plan_as(db, old, f),
                 None => crate::plan::parse_plan(db, old),
+            };
+            let limits = &crate::planner::PlannerLimits {
+                time_spent: limits.time_spent + started.elapsed(),
+                ..limits.clone()
             };
             let cancel = || {
                 salsa::Database::unwind_if_revision_cancelled(db);

@@ -219,8 +219,9 @@ struct PlanArgs {
     /// paper's search (docs/planner.md).
     #[arg(long, value_name = "NAME", default_value = hipop_analyzer::planner::Config::DEFAULT, value_parser = plan::parse_config)]
     config: hipop_analyzer::planner::Config,
-    /// Stop after this many seconds, grounding included; the best plan found
-    /// by then is written (exit status 3 when there is none).
+    /// Stop after this many seconds, reading, checking and grounding the files
+    /// included; the best plan found by then is written (exit status 3 when
+    /// there is none).
     #[arg(long, value_name = "SECONDS", default_value = "60", value_parser = plan::parse_seconds)]
     time_limit: std::time::Duration,
     /// Stop after expanding this many partial plans.

@@ -41,6 +41,9 @@ pub struct Options {
 
 /// Exit status: 0 plan found, 1 no plan, 3 limit reached, 2 usage or input error.
 pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
+    // The time limit is the whole run's: reading, parsing and checking the
+    // files count too.
+    let started = std::time::Instant::now();
     if let Err(m) = options.timeline.check(1, options.format != PlanOutput::Json) {
         eprintln!("error: {m}");
         return 2;
@@ -91,7 +94,8 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
     }
     let show_progress = options.progress;
     let mut last_makespan = None;
-    let watchdog = Watchdog::start(&options.limits, options.format == PlanOutput::Json);
+    let limits = PlannerLimits { time_spent: started.elapsed(), ..options.limits.clone() };
+    let watchdog = Watchdog::start(&limits, options.format == PlanOutput::Json);
     let searching = watchdog.searching.clone();
     let mut progress = |p: &hipop_analyzer::planner::Progress| {
         searching.store(true, std::sync::atomic::Ordering::Release);
@@ -115,7 +119,7 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
             );
         }
     };
-    let planned = analysis.run_planner(fp, &options.config, &options.limits, &|| false, &mut progress);
+    let planned = analysis.run_planner(fp, &options.config, &limits, &|| false, &mut progress);
     drop(watchdog);
     let result = match planned {
         Ok(Some(r)) => r,
@@ -299,7 +303,8 @@ impl Watchdog {
         let searching = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let in_search = searching.clone();
         let time = limits.time;
-        let deadline = time.map(|t| std::time::Instant::now() + t + Self::GRACE);
+        let deadline =
+            time.map(|t| std::time::Instant::now() + t.saturating_sub(limits.time_spent) + Self::GRACE);
         let memory = limits.memory.zip(limits.memory_in_use);
         std::thread::spawn(move || {
             let mut last = memory.map_or(0, |(_, in_use)| in_use());

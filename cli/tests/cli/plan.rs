@@ -105,7 +105,8 @@ fn repair_exit_statuses() {
 
 /// The limits hold where the planner does not look at them: grounding the
 /// methods of the IPC 2020 Monroe problems takes seconds to minutes and
-/// about 170 MB, and `hipop plan --time-limit 0.5`, or `--memory-limit 64`,
+/// about 170 MB, and `hipop plan --time-limit 0.1` (reading and checking
+/// the files count, and take about that), or `--memory-limit 64`,
 /// ends with exit status 3 and says so (without the watchdog it ran on, and
 /// ended with another status).
 #[test]
@@ -122,10 +123,10 @@ fn the_limits_hold_while_grounding() {
     let domain = dir.join(format!("{name}-domain.hddl"));
     let problem = dir.join(format!("{name}.hddl"));
     let (d, p) = (domain.to_str().expect("UTF-8 path"), problem.to_str().expect("UTF-8 path"));
-    let o = hipop(&["plan", d, p, "--time-limit", "0.5", "--color", "never"]);
+    let o = hipop(&["plan", d, p, "--time-limit", "0.1", "--color", "never"]);
     assert_eq!(status(&o), 3, "{}", stderr(&o));
-    assert!(stderr(&o).contains("the time limit (0.5 s) was reached"), "{}", stderr(&o));
-    let o = hipop(&["plan", d, p, "--time-limit", "0.5", "--format", "json"]);
+    assert!(stderr(&o).contains("the time limit (0.1 s) was reached"), "{}", stderr(&o));
+    let o = hipop(&["plan", d, p, "--time-limit", "0.1", "--format", "json"]);
     assert_eq!(status(&o), 3, "{}", stderr(&o));
     let doc: Value = serde_json::from_str(&stdout(&o)).expect("JSON on standard output");
     assert_eq!((doc["status"].as_str(), doc["limit"].as_str()), (Some("limit"), Some("time")));
