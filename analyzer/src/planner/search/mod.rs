@@ -17,6 +17,7 @@
 
 mod cost;
 mod flaws;
+mod progression;
 mod redundant;
 mod resolvers;
 mod seed;
@@ -288,7 +289,10 @@ impl<'a, 'db> Search<'a, 'db> {
         if self.task.achievers.is_empty() {
             // No step is ever inserted: a link no step can support is dead.
             let ready = self.ready_links(plan);
-            if self.dead_link(plan, &ready).is_some() || steps_changed && self.doomed(plan) {
+            if self.dead_link(plan, &ready).is_some()
+                || steps_changed && self.doomed(plan)
+                || self.unrunnable(plan)
+            {
                 return None;
             }
         }
