@@ -234,6 +234,9 @@ pub struct Search<'a, 'db> {
     /// their old steps ran, or run, from another state than the problem's
     /// initial one, and [`Search::doomed`] does not apply.
     from_seeds: std::cell::Cell<bool>,
+    /// The walks of [`Search::unrunnable`] so far, and the plans they
+    /// dropped: the walk stops when it seldom drops one.
+    walks: std::cell::Cell<(u64, u64)>,
 }
 
 /// How a search ended.
@@ -257,6 +260,7 @@ impl<'a, 'db> Search<'a, 'db> {
             until: Default::default(),
             tokens,
             from_seeds: Default::default(),
+            walks: Default::default(),
         }
     }
 
