@@ -17,6 +17,7 @@
 
 mod cost;
 mod flaws;
+mod progression;
 mod redundant;
 mod resolvers;
 mod seed;
@@ -233,6 +234,9 @@ pub struct Search<'a, 'db> {
     /// their old steps ran, or run, from another state than the problem's
     /// initial one, and [`Search::doomed`] does not apply.
     from_seeds: std::cell::Cell<bool>,
+    /// The walks of [`Search::unrunnable`] so far, and the plans they
+    /// dropped: the walk stops when it seldom drops one.
+    walks: std::cell::Cell<(u64, u64)>,
 }
 
 /// How a search ended.
@@ -256,6 +260,7 @@ impl<'a, 'db> Search<'a, 'db> {
             until: Default::default(),
             tokens,
             from_seeds: Default::default(),
+            walks: Default::default(),
         }
     }
 
@@ -288,7 +293,10 @@ impl<'a, 'db> Search<'a, 'db> {
         if self.task.achievers.is_empty() {
             // No step is ever inserted: a link no step can support is dead.
             let ready = self.ready_links(plan);
-            if self.dead_link(plan, &ready).is_some() || steps_changed && self.doomed(plan) {
+            if self.dead_link(plan, &ready).is_some()
+                || steps_changed && self.doomed(plan)
+                || self.unrunnable(plan)
+            {
                 return None;
             }
         }
