@@ -95,6 +95,10 @@ pub struct Config {
     /// keys of one type (the `at` of trucks, where drivers and packages
     /// have an `at` too), and the planner reasons on those families too.
     pub types: bool,
+    /// `refine`: in a purely hierarchical problem (where plans that no
+    /// order of their steps runs are dropped), abstract flaws before open
+    /// links.
+    pub refine: bool,
 }
 
 impl Default for Config {
@@ -125,7 +129,8 @@ impl Config {
     /// `motion`/`ncm` (geometric reasoning; none without), `eager` (every
     /// threat first), `nolookahead` (no greedy completion), `nosteps` (no
     /// open list ranked by plan size), `types` (position families of one
-    /// key type), `bare`. `bare` alone is the default configuration
+    /// key type), `refine` (refinements before links in purely
+    /// hierarchical problems), `bare`. `bare` alone is the default configuration
     /// without abstract actions.
     pub fn parse(name: &str) -> Result<Config, String> {
         if name.eq_ignore_ascii_case("bare") {
@@ -140,6 +145,7 @@ impl Config {
             lookahead: true,
             steps: true,
             types: false,
+            refine: false,
         };
         for part in name.split('-').filter(|p| !p.is_empty()) {
             match part.to_ascii_lowercase().as_str() {
@@ -157,9 +163,10 @@ impl Config {
                 "nolookahead" => c.lookahead = false,
                 "nosteps" => c.steps = false,
                 "types" => c.types = true,
+                "refine" => c.refine = true,
                 other => {
                     return Err(format!(
-                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, bare)"
+                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, refine, bare)"
                     ));
                 }
             }
@@ -199,6 +206,9 @@ impl Config {
         }
         if self.types {
             parts.push("types");
+        }
+        if self.refine {
+            parts.push("refine");
         }
         parts.join("-")
     }

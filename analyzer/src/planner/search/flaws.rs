@@ -48,6 +48,12 @@ impl Search<'_, '_> {
         if let Some(i) = self.forced_link(p, &ready) {
             return Some(Flaw::Open(i));
         }
+        // `refine`, in a purely hierarchical problem: refinements first, a
+        // wrong one found dead when generated ([`super::progression`]),
+        // before its steps' links are chosen every way they can be.
+        if self.config.refine && self.task.achievers.is_empty() && !p.abstracts.is_empty() {
+            return Some(self.abstract_flaw(p));
+        }
         if !ready.is_empty() {
             let pick = match self.config.flaws {
                 FlawOrder::ThreatFirst => *ready.last().expect("non-empty"),
