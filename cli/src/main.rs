@@ -214,8 +214,10 @@ struct PlanArgs {
     /// (geometric reasoning), `eager` (every threat as soon as it appears),
     /// `nolookahead` (A* without the greedy completion), `nosteps` (no open
     /// list ranked by plan size), `types` (position families of one key
-    /// type: the `at` of trucks), `refine` (refinements before links in
-    /// purely hierarchical problems), `bare` (ignore abstract actions).
+    /// type: the `at` of trucks), `refine` or `links` (in purely
+    /// hierarchical problems, refinements or links first only; by default
+    /// refinements first for 8,192 expansions, then links first), `bare`
+    /// (ignore abstract actions).
     /// `AR-time-local-motion-eager-nolookahead-nosteps` is the
     /// paper's search (docs/planner.md).
     #[arg(long, value_name = "NAME", default_value = hipop_analyzer::planner::Config::DEFAULT, value_parser = plan::parse_config)]

@@ -99,7 +99,23 @@ pub struct Config {
     /// order of their steps runs are dropped), abstract flaws before open
     /// links.
     pub refine: bool,
+    /// `links`: in a purely hierarchical problem, open links before
+    /// abstract flaws only. With neither `refine` nor `links`, the search
+    /// with refinements first runs for a bounded effort, then the one with
+    /// links first ([`REFINE_FIRST_NODES`]).
+    pub links: bool,
 }
+
+/// In a purely hierarchical problem, the search with refinements first
+/// (`refine`) runs for at most this many expansions and a quarter of the
+/// time, then the search with links first for the rest (unless the
+/// configuration names one of them). Each finds plans the other does not:
+/// on the first 10 problems of each IPC 2020 partial-order domain, `refine`
+/// solves PCP p-pcp05, 06 and 09 within 6,630 expansions, where links
+/// first stop at the 10 s limit, and links first solve Rover pfile06 in
+/// 32,802, where `refine` does not in 165,000 (docs/benchmarks.md,
+/// 2026-11-27).
+pub const REFINE_FIRST_NODES: u64 = 8_192;
 
 impl Default for Config {
     fn default() -> Self {
@@ -146,6 +162,7 @@ impl Config {
             steps: true,
             types: false,
             refine: false,
+            links: false,
         };
         for part in name.split('-').filter(|p| !p.is_empty()) {
             match part.to_ascii_lowercase().as_str() {
@@ -164,9 +181,10 @@ impl Config {
                 "nosteps" => c.steps = false,
                 "types" => c.types = true,
                 "refine" => c.refine = true,
+                "links" => c.links = true,
                 other => {
                     return Err(format!(
-                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, refine, bare)"
+                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, refine, links, bare)"
                     ));
                 }
             }
@@ -209,6 +227,9 @@ impl Config {
         }
         if self.refine {
             parts.push("refine");
+        }
+        if self.links {
+            parts.push("links");
         }
         parts.join("-")
     }
@@ -400,7 +421,10 @@ pub fn plan<'db>(
             // The time limit is the run's, grounding included.
             let limits =
                 PlannerLimits { time_spent: limits.time_spent + started.elapsed(), ..limits.clone() };
-            if limits.first || config.bare || prepared.task.htn.is_some() {
+            let hierarchical = prepared.task.htn.is_some() && prepared.task.achievers.is_empty();
+            if hierarchical && !config.refine && !config.links && !config.bare {
+                prepared.refine_then_links(db, config, &limits, cancel, progress)
+            } else if limits.first || config.bare || prepared.task.htn.is_some() {
                 prepared.search(db, config, &limits, None, cancel, progress)
             } else {
                 prepared.improve(db, config, &limits, cancel, progress)
@@ -575,6 +599,51 @@ impl<'db> Prepared<'db> {
         stats.elapsed = limits.time_spent + started.elapsed();
         best.stats = stats;
         best
+    }
+
+    /// A purely hierarchical problem: the search with refinements first for
+    /// at most [`REFINE_FIRST_NODES`] expansions and a quarter of the time,
+    /// then, when it stopped at that bound, the search with links first for
+    /// what is left. A search that ends otherwise (a plan, none at all, or
+    /// the run's own limit) is the answer.
+    fn refine_then_links(
+        &self,
+        db: &'db dyn Db,
+        config: &Config,
+        limits: &PlannerLimits,
+        cancel: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Outcome<'db> {
+        let started = std::time::Instant::now();
+        let nodes = limits.nodes.map_or(REFINE_FIRST_NODES, |n| n.min(REFINE_FIRST_NODES));
+        let quarter = limits.time.map(|t| limits.time_spent + t.saturating_sub(limits.time_spent) / 4);
+        let bounded = PlannerLimits { nodes: Some(nodes), time: quarter, ..limits.clone() };
+        let refine = Config { refine: true, ..config.clone() };
+        let first = self.search(db, &refine, &bounded, None, cancel, progress);
+        let spent = limits.time_spent + started.elapsed();
+        let at_bound = match first.status {
+            Status::Limit(LimitKind::Nodes) => limits.nodes.is_none_or(|n| first.stats.expanded < n),
+            Status::Limit(LimitKind::Time) => limits.time.is_none_or(|t| spent < t),
+            _ => false,
+        };
+        if !at_bound {
+            return first;
+        }
+        let rest = PlannerLimits {
+            time_spent: spent,
+            nodes: limits.nodes.map(|n| n.saturating_sub(first.stats.expanded)),
+            ..limits.clone()
+        };
+        let links = Config { links: true, ..config.clone() };
+        let mut second = self.search(db, &links, &rest, None, cancel, progress);
+        let (a, b) = (&first.stats, &mut second.stats);
+        b.expanded += a.expanded;
+        b.generated += a.generated;
+        b.peak_open = b.peak_open.max(a.peak_open);
+        b.largest = b.largest.max(a.largest);
+        b.elapsed += a.elapsed;
+        b.first_found = b.first_found.map(|f| f + a.elapsed);
+        second
     }
 
     /// Runs the search from the empty plan, or from the start plan `seed`
