@@ -758,8 +758,23 @@ fn approx_plan_bytes(p: &Plan) -> usize {
 /// Test support for the unit tests of this module's files.
 #[cfg(test)]
 mod test_support {
+    use super::super::plan::Plan;
     use super::super::{Prepared, prepare};
-    use super::{Config, PlannerLimits, Search};
+    use super::{Config, Flaw, PlannerLimits, Search};
+
+    /// The child of the first plan whose first abstract step (the problem's
+    /// one `:htn` task) is refined by the method named `method`.
+    pub(super) fn refined_by(prepared: &Prepared<'_>, search: &Search<'_, '_>, method: &str) -> Plan {
+        let task = &prepared.task;
+        let roots = search.initial();
+        assert_eq!(roots.len(), 1);
+        let mut children = Vec::new();
+        search.resolvers(&roots[0], Flaw::Abstract(0), &mut children);
+        let name = |p: &Plan| {
+            p.steps.iter().find_map(|s| s.method).map(|m| task.methods[m as usize].name.to_string())
+        };
+        children.into_iter().find(|c| name(c).as_deref() == Some(method)).expect("refined")
+    }
 
     /// Prepares the problem `problem` of the domain `domain`
     /// (files named by `names`) and runs `f` on it with a search of it under

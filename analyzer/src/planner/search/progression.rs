@@ -326,9 +326,6 @@ impl Search<'_, '_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::super::plan::Plan;
-    use super::super::Flaw;
-
     /// `leave` takes the truck from `a` to `b`, `look` needs it at `a`,
     /// `both` at `a` and at `b` at once; `more` may bring it back.
     const DOMAIN: &str = "(define (domain d) (:requirements :hierarchy :negative-preconditions)
@@ -360,19 +357,7 @@ mod tests {
                 DOMAIN,
                 problem,
                 move |prepared, search| {
-                    let task = &prepared.task;
-                    let roots = search.initial();
-                    assert_eq!(roots.len(), 1);
-                    let mut children = Vec::new();
-                    search.resolvers(&roots[0], Flaw::Abstract(0), &mut children);
-                    let name = |p: &Plan| {
-                        p.steps
-                            .iter()
-                            .find_map(|s| s.method)
-                            .map(|m| task.methods[m as usize].name.to_string())
-                    };
-                    let mut plan =
-                        children.into_iter().find(|c| name(c).as_deref() == Some(method)).expect("refined");
+                    let mut plan = super::super::test_support::refined_by(prepared, search, method);
                     // The relaxed checks see nothing wrong.
                     assert!(search.stuck(&plan).is_none(), "{method}");
                     assert!(search.starved(&plan).is_none(), "{method}");

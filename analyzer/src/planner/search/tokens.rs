@@ -318,19 +318,8 @@ mod tests {
             domain,
             problem,
             move |prepared, search| {
-                let task = &prepared.task;
-                let roots = search.initial();
-                assert_eq!(roots.len(), 1);
-                let mut children = Vec::new();
-                search.resolvers(&roots[0], Flaw::Abstract(0), &mut children);
-                let name = |p: &Plan| {
-                    p.steps.iter().find_map(|s| s.method).map(|m| task.methods[m as usize].name.to_string())
-                };
-                let plan = children
-                    .into_iter()
-                    .find(|c| name(c).as_deref() == Some(method.as_str()))
-                    .expect("refined");
-                f(task, search, plan);
+                let plan = super::super::test_support::refined_by(prepared, search, &method);
+                f(&prepared.task, search, plan);
             },
         );
     }
