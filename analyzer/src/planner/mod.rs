@@ -635,7 +635,10 @@ impl<'db> Prepared<'db> {
             ..limits.clone()
         };
         let links = Config { links: true, ..config.clone() };
-        let mut second = self.search(db, &links, &rest, None, cancel, progress);
+        // The reports count the expansions of both searches.
+        let before = first.stats.expanded;
+        let mut counted = |p: &Progress| progress(&Progress { expanded: before + p.expanded, ..*p });
+        let mut second = self.search(db, &links, &rest, None, cancel, &mut counted);
         let (a, b) = (&first.stats, &mut second.stats);
         b.expanded += a.expanded;
         b.generated += a.generated;
