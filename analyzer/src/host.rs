@@ -475,10 +475,7 @@ impl Analysis {
             // problem's, on a loaded machine, took a second).
             let started = std::time::Instant::now();
             let unit = first_problem(db, problem)?;
-            let limits = &crate::planner::PlannerLimits {
-                time_spent: limits.time_spent + started.elapsed(),
-                ..limits.clone()
-            };
+            let limits = &limits.spent_since(started);
             let cancel = || {
                 // A pending change of the inputs stops the search (the
                 // change waits for this snapshot to be dropped).
@@ -520,10 +517,7 @@ impl Analysis {
                 Some(f) => crate::plan::parse_plan_as(db, old, f),
                 None => crate::plan::parse_plan(db, old),
             };
-            let limits = &crate::planner::PlannerLimits {
-                time_spent: limits.time_spent + started.elapsed(),
-                ..limits.clone()
-            };
+            let limits = &limits.spent_since(started);
             let cancel = || {
                 salsa::Database::unwind_if_revision_cancelled(db);
                 cancel()

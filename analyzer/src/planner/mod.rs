@@ -289,6 +289,14 @@ impl Default for PlannerLimits {
     }
 }
 
+impl PlannerLimits {
+    /// These limits with the time since `started` counted as spent: what
+    /// ran before (parsing, grounding) uses up the run's time limit.
+    pub fn spent_since(&self, started: std::time::Instant) -> PlannerLimits {
+        PlannerLimits { time_spent: self.time_spent + started.elapsed(), ..self.clone() }
+    }
+}
+
 /// Which limit stopped the search.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LimitKind {
@@ -419,8 +427,7 @@ pub fn plan<'db>(
     match prepare(db, problem, config, limits) {
         Ok(prepared) => {
             // The time limit is the run's, grounding included.
-            let limits =
-                PlannerLimits { time_spent: limits.time_spent + started.elapsed(), ..limits.clone() };
+            let limits = limits.spent_since(started);
             let hierarchical = prepared.task.htn.is_some() && prepared.task.achievers.is_empty();
             if hierarchical && !config.refine && !config.links && !config.bare {
                 prepared.refine_then_links(db, config, &limits, cancel, progress)
