@@ -56,6 +56,20 @@ const HTN_WEIGHT: f64 = 2.0;
 /// many steps as a near one's), and its size list only costs its nodes.
 const SIZE_LANE_AFTER: u64 = 1000;
 
+/// What a threat left in a plan counts in the rank of the open list by
+/// plan size ([`Search::size_rank`]): half a step. Ordering a threat adds
+/// no step, and one that both orderings still solve is most often ordered
+/// by later links; counted as a whole step, every step that may overlap a
+/// link (a truck driven while a link needs another of its places, an
+/// aircraft's flights around a boarding) put its plan a step behind the
+/// plans whose steps were ordered already, and the list went through
+/// those first: DriverLog `time` problem 8 took more than 231,000 plans
+/// and 4 GiB, ZenoTravel time-simple problem 8 more than 22,000. Not
+/// counted at all, Rovers `time` problem 1 (2,030 plans) and Depots `time`
+/// problem 7 (15,024) were no longer solved in 30,000 (docs/benchmarks.md,
+/// 2026-11-27).
+const SIZE_THREAT_WEIGHT: f64 = 0.5;
+
 /// Steps a greedy descent may add beyond twice the remaining effort of the
 /// plan it starts from ([`Search::probe_steps`]).
 const PROBE_SPARE_STEPS: usize = 16;
@@ -315,9 +329,12 @@ impl<'a, 'db> Search<'a, 'db> {
     }
 
     /// A plan's rank in the lane of plan size: its steps plus the estimate
-    /// of its flaws in actions (VHPOP's `ADDR` with unit action costs).
+    /// of its open links and abstract flaws in actions (VHPOP's `ADDR` with
+    /// unit action costs), plus [`SIZE_THREAT_WEIGHT`] per threat left.
     fn size_rank(&self, plan: &Plan, effort: f64) -> f64 {
-        (plan.steps.len() - 2 - self.task.tils.len()) as f64 + effort
+        let steps = (plan.steps.len() - 2 - self.task.tils.len()) as f64;
+        // The effort counts each threat as one.
+        steps + effort - (1.0 - SIZE_THREAT_WEIGHT) * plan.threats.len() as f64
     }
 
     /// The open lists of a search: with the lane of plan size while it
