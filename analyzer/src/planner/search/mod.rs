@@ -24,6 +24,7 @@ mod seed;
 mod tokens;
 
 pub use redundant::Removed;
+use resolvers::Made;
 pub use seed::{Seed, SeedError, SeedOrder, SeedStep, Seeded};
 
 use std::cmp::Ordering;
@@ -133,7 +134,7 @@ impl Open {
 
     /// The next plan to expand: the best of the active lane whose turn it
     /// is (or of another, when that one is empty), with its entry.
-    fn pop(&mut self) -> Option<(Rc<Entry>, Plan)> {
+    fn pop(&mut self) -> Option<(Rc<Entry>, Child)> {
         let n = self.active;
         for k in 0..n {
             let lane = (self.turn + k) % n;
@@ -168,7 +169,22 @@ struct Entry {
     /// Its lineage had a greedy completion already.
     probed: bool,
     /// Taken by the lane that expands it.
-    plan: std::cell::RefCell<Option<Plan>>,
+    plan: std::cell::RefCell<Option<Child>>,
+}
+
+/// A plan of the open lists: the plan itself, or how to make it again
+/// from its parent. A child of an open link is kept as its parent (shared
+/// by its siblings) and what supports the link ([`Made`]): an expansion of
+/// a plan of a hundred steps makes a hundred such children, a few
+/// kilobytes each as plans (the chunks of its steps, links and network
+/// that it wrote), of which one in a hundred is ever expanded. The one
+/// popped is made again and settled (its threats with one ordering left
+/// ordered, as when it was scored): the same plan.
+enum Child {
+    /// Boxed: a plan is a few hundred bytes of spines and counters, ten
+    /// times the rest of an entry.
+    Plan(Box<Plan>),
+    Made(Rc<Plan>, Made),
 }
 
 /// A plan's place in one lane.
@@ -357,8 +373,22 @@ impl<'a, 'db> Search<'a, 'db> {
     fn expand(&self, p: &Plan, flaw: Flaw, stats: &mut Stats, dead: &mut dyn FnMut(&Plan)) -> Vec<Scored> {
         let linking = matches!(flaw, Flaw::Open(_));
         let mut children = Vec::new();
-        self.resolvers(p, flaw, &mut children);
-        self.scored(p, children, linking, stats, dead)
+        let mut made = Vec::new();
+        match flaw {
+            Flaw::Open(i) => self.open_resolvers_made(p, i, &mut children, &mut made),
+            flaw => self.resolvers(p, flaw, &mut children),
+        }
+        self.scored_made(p, children, made, linking, stats, dead)
+    }
+
+    /// The child of an open link `made` from `parent`, made again and
+    /// settled like [`Search::scored`] scored it: `None` if it does not
+    /// come out the same way (it always does: making and settling a plan
+    /// only read the parent and the task).
+    fn remade(&self, parent: &Plan, made: Made) -> Option<Plan> {
+        let mut c = self.remake(parent, made)?;
+        self.settle(&mut c)?;
+        Some(c)
     }
 
     /// [`Search::expand`] of `children`, the resolvers of an open link of
@@ -371,15 +401,31 @@ impl<'a, 'db> Search<'a, 'db> {
         stats: &mut Stats,
         dead: &mut dyn FnMut(&Plan),
     ) -> Vec<Scored> {
+        self.scored_made(p, children, Vec::new(), linking, stats, dead)
+    }
+
+    /// [`Search::scored`], with how each child was made when `made` is
+    /// not empty (one per child, in order).
+    fn scored_made(
+        &self,
+        p: &Plan,
+        children: Vec<Plan>,
+        made: Vec<Made>,
+        linking: bool,
+        stats: &mut Stats,
+        dead: &mut dyn FnMut(&Plan),
+    ) -> Vec<Scored> {
         let mut out = Vec::with_capacity(children.len());
+        let mut made = made.into_iter();
         for mut c in children {
             if self.past_limit() {
                 break;
             }
+            let how = made.next();
             let added = if linking { c.steps.len() - p.steps.len() } else { 0 };
             match self.score_as(&mut c, !linking) {
                 Some((g, h, effort, span)) => {
-                    out.push(Scored { f: g + self.weight() * h, span, effort, added, plan: c })
+                    out.push(Scored { f: g + self.weight() * h, span, effort, added, made: how, plan: c })
                 }
                 None => dead(&c),
             }
@@ -531,7 +577,8 @@ impl<'a, 'db> Search<'a, 'db> {
                     let size = root.steps.len();
                     let f = g + self.weight() * h;
                     let keys = [(f, effort), (self.size_rank(&root, effort), effort)];
-                    let entry = Entry { f, span, probed: false, plan: Some(root).into() };
+                    let entry =
+                        Entry { f, span, probed: false, plan: Some(Child::Plan(Box::new(root))).into() };
                     heap.push(entry, keys, size, id);
                 }
                 None => keep_best(&root, best, &mut best_effort),
@@ -621,13 +668,20 @@ impl<'a, 'db> Search<'a, 'db> {
             if heap.active < heap.lanes.len() && stats.expanded >= SIZE_LANE_AFTER {
                 heap.active = heap.lanes.len();
             }
-            let Some((node, mut plan)) = heap.pop() else { break End2::Exhausted };
+            let Some((node, child)) = heap.pop() else { break End2::Exhausted };
             let known = incumbent.as_ref().map(|(_, q)| *q).or(limits.better_than);
             let admits = |makespan: f64| known.is_none_or(|k| k.admits(makespan));
             if !admits(node.span) {
                 // Found since it entered the open list: cannot do better.
                 continue;
             }
+            let mut plan = match child {
+                Child::Plan(plan) => *plan,
+                Child::Made(parent, made) => match self.remade(&parent, made) {
+                    Some(plan) => plan,
+                    None => continue,
+                },
+            };
             plan.stn.flush();
             plan.stn.defer();
             stats.expanded += 1;
@@ -717,11 +771,18 @@ impl<'a, 'db> Search<'a, 'db> {
                     break End2::Limit(LimitKind::Memory);
                 }
             }
+            // The children of an open link are kept as their parent and how
+            // each was made ([`Child`]).
+            let parent = scored.iter().any(|c| c.made.is_some()).then(|| Rc::new(plan));
             for c in scored {
                 id += 1;
                 let size = c.plan.steps.len();
                 let keys = [(c.f, c.effort), (self.size_rank(&c.plan, c.effort), c.effort)];
-                let entry = Entry { f: c.f, span: c.span, probed, plan: Some(c.plan).into() };
+                let child = match (&parent, c.made) {
+                    (Some(parent), Some(made)) => Child::Made(Rc::clone(parent), made),
+                    _ => Child::Plan(Box::new(c.plan)),
+                };
+                let entry = Entry { f: c.f, span: c.span, probed, plan: Some(child).into() };
                 heap.push(entry, keys, size, id);
             }
         };
@@ -752,6 +813,8 @@ struct Scored {
     effort: f64,
     /// Steps it added for an open link.
     added: usize,
+    /// How it was made, for an open link ([`Child::Made`]).
+    made: Option<Made>,
     plan: Plan,
 }
 

@@ -392,6 +392,11 @@ impl Search<'_, '_> {
 
     /// The resolvers of open link `i` that link it to a step of the plan.
     pub(super) fn open_links(&self, p: &Plan, i: usize, out: &mut Vec<Plan>) {
+        self.open_links_made(p, i, out, &mut |_| {});
+    }
+
+    /// [`Search::open_links`], telling `made` how each child was made.
+    fn open_links_made(&self, p: &Plan, i: usize, out: &mut Vec<Plan>, made: &mut dyn FnMut(Made)) {
         let (base, o) = Self::without_open(p, i);
         // Causal links to existing steps. An abstract step's own effect is
         // its method's to achieve: only the steps it holds support it.
@@ -408,9 +413,10 @@ impl Search<'_, '_> {
             if self.past_limit() {
                 return;
             }
-            let mut c = base.clone();
-            if c.add_link(self.task, s, tp, &o) {
+            let by = By::Link(s, tp);
+            if let Some(c) = self.made_by(base.clone(), &o, by) {
                 out.push(c);
+                made(Made { open: i as u32, by });
             }
         }
     }
@@ -419,6 +425,11 @@ impl Search<'_, '_> {
     /// for an abstract step's own effect; a visit gets its moves from its
     /// itinerary).
     pub(super) fn open_steps(&self, p: &Plan, i: usize, out: &mut Vec<Plan>) {
+        self.open_steps_made(p, i, out, &mut |_| {});
+    }
+
+    /// [`Search::open_steps`], telling `made` how each child was made.
+    fn open_steps_made(&self, p: &Plan, i: usize, out: &mut Vec<Plan>, made: &mut dyn FnMut(Made)) {
         if p.open[i].origin == OpenOrigin::AbstractEffect {
             return;
         }
@@ -435,13 +446,44 @@ impl Search<'_, '_> {
             if self.config.bare && self.task.ops[op as usize].is_abstract {
                 continue;
             }
-            let mut c = base.clone();
-            let Some(s) = self.add_step(&mut c, op, None) else { continue };
-            let tp = c.steps[s as usize].tp(at);
-            if c.add_link(self.task, s, tp, &o) {
+            let by = By::Step(op, at);
+            if let Some(c) = self.made_by(base.clone(), &o, by) {
                 out.push(c);
+                made(Made { open: i as u32, by });
             }
         }
+    }
+
+    /// The resolvers of open link `i` ([`Search::open_resolvers`]), with
+    /// how each was made, in the same order.
+    pub(super) fn open_resolvers_made(&self, p: &Plan, i: usize, out: &mut Vec<Plan>, made: &mut Vec<Made>) {
+        self.open_links_made(p, i, out, &mut |m| made.push(m));
+        self.open_steps_made(p, i, out, &mut |m| made.push(m));
+    }
+
+    /// `base` (a plan without open link `o`) with `o` solved `by` a causal
+    /// link to a step there or a new step: `None` when the network refuses
+    /// it.
+    fn made_by(&self, mut base: Plan, o: &Open, by: By) -> Option<Plan> {
+        let (s, tp) = match by {
+            By::Link(s, tp) => (s, tp),
+            By::Step(op, at) => {
+                let s = self.add_step(&mut base, op, None)?;
+                (s, base.steps[s as usize].tp(at))
+            }
+        };
+        base.add_link(self.task, s, tp, o).then_some(base)
+    }
+
+    /// The child of `parent` that [`Search::open_resolvers_made`] made as
+    /// `made`, made again: the same plan, not scored yet.
+    pub(super) fn remake(&self, parent: &Plan, made: Made) -> Option<Plan> {
+        let i = made.open as usize;
+        if i >= parent.open.len() {
+            return None;
+        }
+        let (base, o) = Self::without_open(parent, i);
+        self.made_by(base, &o, made.by)
     }
 
     /// Refines abstract step `s` with method instance `m`: its subtasks as
@@ -515,6 +557,24 @@ impl Search<'_, '_> {
         }
         true
     }
+}
+
+/// How a child of an open link was made from its parent: enough to make it
+/// again ([`Search::remake`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Made {
+    /// The open link, by index in the parent's.
+    pub(super) open: u32,
+    pub(super) by: By,
+}
+
+/// What supports the open link of a [`Made`] child.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum By {
+    /// A causal link from this step of the parent, at this time point.
+    Link(u32, Tp),
+    /// A new step of this operator, linked from this end of it.
+    Step(u32, End),
 }
 
 /// The effects of a plan's steps by literal, and its position changes by
@@ -646,6 +706,77 @@ mod tests {
                 assert_eq!(ops, ["finish"]);
                 // `finish` for `(done)`, then the link to it for `(p)`.
                 assert_eq!(stats.generated, 2);
+            },
+        )
+    }
+
+    /// Two aircraft-like tokens: `spend-a` and `spend-b` each need the
+    /// token at their start and use it up at their end, `mint` makes one:
+    /// children of open links with threats to settle (one ordering left).
+    const TOKEN: &str = "(define (domain token)
+  (:requirements :durative-actions)
+  (:predicates (token) (a) (b))
+  (:durative-action spend-a :parameters () :duration (= ?duration 1)
+    :condition (at start (token)) :effect (and (at end (not (token))) (at end (a))))
+  (:durative-action spend-b :parameters () :duration (= ?duration 2)
+    :condition (at start (token)) :effect (and (at end (not (token))) (at end (b))))
+  (:durative-action mint :parameters () :duration (= ?duration 5)
+    :effect (at end (token))))";
+
+    /// Whether two plans are the same: steps, links, flaws and network
+    /// (earliest times and the closure).
+    fn same(a: &super::Plan, b: &super::Plan) -> bool {
+        let n = a.stn.len() as u32;
+        a.steps.iter().eq(b.steps.iter())
+            && a.links.iter().eq(b.links.iter())
+            && a.open.iter().eq(b.open.iter())
+            && a.threats == b.threats
+            && a.abstracts == b.abstracts
+            && a.clock == b.clock
+            && n == b.stn.len() as u32
+            && (0..n).all(|x| a.stn.est(x) == b.stn.est(x))
+            && (0..n).all(|x| (0..n).all(|y| a.stn.before(x, y) == b.stn.before(x, y)))
+    }
+
+    /// The search keeps the children of an open link as their parent and
+    /// how each was made: made again and settled, each is the plan that
+    /// was scored, at every level of the search down to the plans found.
+    #[test]
+    fn a_child_of_an_open_link_made_again_is_the_plan_scored() {
+        let problem = "(define (problem p) (:domain token) (:init (token)) (:goal (and (a) (b))))";
+        super::super::test_support::with_search(
+            ("domain.pddl", "problem.pddl"),
+            TOKEN,
+            problem,
+            |_, search| {
+                let mut stats = Stats::default();
+                let mut level = search.initial();
+                let (mut made, mut settled) = (0, 0);
+                for _ in 0..6 {
+                    let mut next = Vec::new();
+                    for mut p in level {
+                        p.stn.flush();
+                        p.stn.defer();
+                        let Some(flaw) = search.select(&mut p) else { continue };
+                        let linking = matches!(flaw, Flaw::Open(_));
+                        for c in search.expand(&p, flaw, &mut stats, &mut |_| {}) {
+                            assert_eq!(c.made.is_some(), linking);
+                            if let Some(how) = c.made {
+                                let again = search.remade(&p, how).expect("made again");
+                                assert!(same(&again, &c.plan), "{how:?}");
+                                let unsettled = search.remake(&p, how).expect("made again");
+                                settled += usize::from(!same(&unsettled, &c.plan));
+                                made += 1;
+                            }
+                            next.push(c.plan);
+                        }
+                    }
+                    level = next;
+                }
+                // Links to every step and new steps alike; and the settling
+                // mattered for some (a threat ordered in place).
+                assert!(made >= 10, "{made}");
+                assert!(settled > 0);
             },
         )
     }
