@@ -391,10 +391,8 @@ impl Search<'_, '_> {
                     }
                 }
             };
-        for a in 0..comp.pre.len() {
-            if left[a] == 0 {
-                reach(a, 0.0, &mut cost, &mut best, &mut heap);
-            }
+        for (a, _) in left.iter().enumerate().filter(|&(_, &n)| n == 0) {
+            reach(a, 0.0, &mut cost, &mut best, &mut heap);
         }
         while let Some(std::cmp::Reverse((Cost(c), f))) = heap.pop() {
             if settled[f as usize] || c > cost[f as usize] {
@@ -453,10 +451,22 @@ impl Search<'_, '_> {
 }
 
 /// A cost ordered totally, for the heap.
-#[derive(Clone, Copy, PartialEq, PartialOrd)]
+#[derive(Clone, Copy)]
 struct Cost(f64);
 
+impl PartialEq for Cost {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
+
 impl Eq for Cost {}
+
+impl PartialOrd for Cost {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
 
 impl Ord for Cost {
     fn cmp(&self, other: &Self) -> std::cmp::Ordering {
