@@ -214,9 +214,11 @@ struct PlanArgs {
     /// (geometric reasoning), `eager` (every threat as soon as it appears),
     /// `nolookahead` (A* without the greedy completion), `nosteps` (no open
     /// list ranked by plan size), `types` (position families of one key
-    /// type: the `at` of trucks), `refine` or `links` (in purely
-    /// hierarchical problems, refinements or links first only; by default
-    /// refinements first for 8,192 expansions, then links first), `bare`
+    /// type: the `at` of trucks), `refine`, `front` or `links` (in purely
+    /// hierarchical problems, refinements first, plans grown from their
+    /// front like a progression planner's, or links first only; by default
+    /// refinements first for 8,192 expansions and a quarter of the time,
+    /// then from the front for a quarter, then links first), `bare`
     /// (ignore abstract actions).
     /// `AR-time-local-motion-eager-nolookahead-nosteps` is the
     /// paper's search (docs/planner.md).

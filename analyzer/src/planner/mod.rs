@@ -104,6 +104,9 @@ pub struct Config {
     /// with refinements first runs for a bounded effort, then the one with
     /// links first ([`REFINE_FIRST_NODES`]).
     pub links: bool,
+    /// `front`: in a purely hierarchical problem, plans grow from their
+    /// front, as in a progression planner (`search::front`).
+    pub front: bool,
 }
 
 /// In a purely hierarchical problem, the search with refinements first
@@ -163,6 +166,7 @@ impl Config {
             types: false,
             refine: false,
             links: false,
+            front: false,
         };
         for part in name.split('-').filter(|p| !p.is_empty()) {
             match part.to_ascii_lowercase().as_str() {
@@ -182,9 +186,10 @@ impl Config {
                 "types" => c.types = true,
                 "refine" => c.refine = true,
                 "links" => c.links = true,
+                "front" => c.front = true,
                 other => {
                     return Err(format!(
-                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, refine, links, bare)"
+                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, refine, links, front, bare)"
                     ));
                 }
             }
@@ -230,6 +235,9 @@ impl Config {
         }
         if self.links {
             parts.push("links");
+        }
+        if self.front {
+            parts.push("front");
         }
         parts.join("-")
     }
@@ -429,7 +437,7 @@ pub fn plan<'db>(
             // The time limit is the run's, grounding included.
             let limits = limits.spent_since(started);
             let hierarchical = prepared.task.htn.is_some() && prepared.task.achievers.is_empty();
-            if hierarchical && !config.refine && !config.links && !config.bare {
+            if hierarchical && !config.refine && !config.links && !config.front && !config.bare {
                 prepared.refine_then_links(db, config, &limits, cancel, progress)
             } else if limits.first || config.bare || prepared.task.htn.is_some() {
                 prepared.search(db, config, &limits, None, cancel, progress)
@@ -610,9 +618,11 @@ impl<'db> Prepared<'db> {
 
     /// A purely hierarchical problem: the search with refinements first for
     /// at most [`REFINE_FIRST_NODES`] expansions and a quarter of the time,
-    /// then, when it stopped at that bound, the search with links first for
-    /// what is left. A search that ends otherwise (a plan, none at all, or
-    /// the run's own limit) is the answer.
+    /// then, when the problem allows it ([`search::Search::grows_from_front`]),
+    /// the search that grows plans from their front for another quarter,
+    /// then the search with links first for what is left. Each search that
+    /// stops at its own bound hands over to the next; one that ends
+    /// otherwise (a plan, none at all, or the run's own limit) is the answer.
     fn refine_then_links(
         &self,
         db: &'db dyn Db,
@@ -622,38 +632,55 @@ impl<'db> Prepared<'db> {
         progress: &mut dyn FnMut(&Progress),
     ) -> Outcome<'db> {
         let started = std::time::Instant::now();
-        let nodes = limits.nodes.map_or(REFINE_FIRST_NODES, |n| n.min(REFINE_FIRST_NODES));
-        let quarter = limits.time.map(|t| limits.time_spent + t.saturating_sub(limits.time_spent) / 4);
-        let bounded = PlannerLimits { nodes: Some(nodes), time: quarter, ..limits.clone() };
-        let refine = Config { refine: true, ..config.clone() };
-        let first = self.search(db, &refine, &bounded, None, cancel, progress);
-        let spent = limits.time_spent + started.elapsed();
-        let at_bound = match first.status {
-            Status::Limit(LimitKind::Nodes) => limits.nodes.is_none_or(|n| first.stats.expanded < n),
-            Status::Limit(LimitKind::Time) => limits.time.is_none_or(|t| spent < t),
-            _ => false,
-        };
-        if !at_bound {
-            return first;
+        let front = Config { front: true, ..config.clone() };
+        let mut phases = vec![(Config { refine: true, ..config.clone() }, Some(REFINE_FIRST_NODES))];
+        if search::Search::grows_from_front(&self.task, &front) {
+            phases.push((front, None));
         }
-        let rest = PlannerLimits {
-            time_spent: spent,
-            nodes: limits.nodes.map(|n| n.saturating_sub(first.stats.expanded)),
-            ..limits.clone()
-        };
-        let links = Config { links: true, ..config.clone() };
-        // The reports count the expansions of both searches.
-        let before = first.stats.expanded;
-        let mut counted = |p: &Progress| progress(&Progress { expanded: before + p.expanded, ..*p });
-        let mut second = self.search(db, &links, &rest, None, cancel, &mut counted);
-        let (a, b) = (&first.stats, &mut second.stats);
-        b.expanded += a.expanded;
-        b.generated += a.generated;
-        b.peak_open = b.peak_open.max(a.peak_open);
-        b.largest = b.largest.max(a.largest);
-        b.elapsed += a.elapsed;
-        b.first_found = b.first_found.map(|f| f + a.elapsed);
-        second
+        phases.push((Config { links: true, ..config.clone() }, None));
+        let quarter = limits.time.map(|t| t.saturating_sub(limits.time_spent) / 4);
+        // What the searches before the one at hand did.
+        let mut before = Stats::default();
+        let last = phases.len() - 1;
+        for (k, (phase, bound)) in phases.into_iter().enumerate() {
+            let spent = limits.time_spent + started.elapsed();
+            let nodes = limits.nodes.map(|n| n.saturating_sub(before.expanded));
+            let phase_limits = if k == last {
+                PlannerLimits { time_spent: spent, nodes, ..limits.clone() }
+            } else {
+                let nodes = match (nodes, bound) {
+                    (Some(n), Some(b)) => Some(n.min(b)),
+                    (n, b) => n.or(b),
+                };
+                let time = limits.time.zip(quarter).map(|(t, q)| (spent + q).min(t));
+                PlannerLimits { time_spent: spent, nodes, time, ..limits.clone() }
+            };
+            // The reports count the expansions of every search.
+            let done = before.expanded;
+            let mut counted = |p: &Progress| progress(&Progress { expanded: done + p.expanded, ..*p });
+            let mut outcome = self.search(db, &phase, &phase_limits, None, cancel, &mut counted);
+            let spent = limits.time_spent + started.elapsed();
+            let at_bound = k < last
+                && match outcome.status {
+                    Status::Limit(LimitKind::Nodes) => {
+                        limits.nodes.is_none_or(|n| before.expanded + outcome.stats.expanded < n)
+                    }
+                    Status::Limit(LimitKind::Time) => limits.time.is_none_or(|t| spent < t),
+                    _ => false,
+                };
+            let b = &mut outcome.stats;
+            b.expanded += before.expanded;
+            b.generated += before.generated;
+            b.peak_open = b.peak_open.max(before.peak_open);
+            b.largest = b.largest.max(before.largest);
+            b.elapsed += before.elapsed;
+            b.first_found = b.first_found.map(|f| f + before.elapsed);
+            if !at_bound {
+                return outcome;
+            }
+            before = outcome.stats;
+        }
+        unreachable!("the last search is the answer")
     }
 
     /// Runs the search from the empty plan, or from the start plan `seed`

@@ -128,6 +128,11 @@ pub struct Plan {
     /// The durations fixed so far of the steps whose duration reads a
     /// numeric fluent that effects change (`refuel`), by step.
     pub durations: Rc<Vec<(u32, f64)>>,
+    /// The start of the last elementary step committed to the plan's front
+    /// (configuration part `front`, `super::search::front`): the steps at
+    /// or before it run in that order, before every other step (the
+    /// origin: none yet).
+    pub front: Tp,
 }
 
 /// The old schedule of a repair's start plan: the start point of each old
@@ -177,6 +182,7 @@ impl Plan {
             not_before: 0.0,
             old_times: Rc::new(OldSchedule::default()),
             durations: Rc::new(Vec::new()),
+            front: ORIGIN,
         };
         p.steps.push(Step {
             kind: Kind::Init,

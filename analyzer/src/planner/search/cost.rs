@@ -13,6 +13,9 @@ use super::Search;
 impl Search<'_, '_> {
     /// h of a plan, and the effort.
     pub(super) fn estimate(&self, p: &Plan) -> (f64, f64) {
+        if self.at_front() {
+            return self.front_estimate(p);
+        }
         let (mut h, mut effort) = (0.0, 0.0);
         let wanted = p.open.iter().filter(|o| !self.is_visit(o)).flat_map(|o| [o.lit, o.lit ^ 1]);
         let index = EffectIndex::new(self.task, p, wanted);

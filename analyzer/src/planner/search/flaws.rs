@@ -32,6 +32,12 @@ impl Search<'_, '_> {
         if self.config.eager && !p.threats.is_empty() {
             return self.threat_flaw(p);
         }
+        if self.at_front() {
+            if !p.threats.is_empty() {
+                return self.threat_flaw(p);
+            }
+            return self.front_flaw(p).or_else(|| self.late_til(p)).or_else(|| self.mutex(p));
+        }
         let pending = match &self.geo {
             Some(geo) => {
                 let pending = geo.pending(task, p);

@@ -17,6 +17,7 @@
 
 mod cost;
 mod flaws;
+mod front;
 mod progression;
 mod redundant;
 mod resolvers;
@@ -240,6 +241,10 @@ enum Flaw {
     NumOrder(Tp, Tp),
     /// A numeric condition that does not hold where its step reads it.
     Numeric(super::numeric::Failed),
+    /// The front of a plan grown from its start ([`front`]): its
+    /// elementary steps that can run next, and the refinements of the
+    /// abstract step of the front at this index of `Plan::abstracts`.
+    Front(Option<usize>),
     /// A flaw no resolver can solve (a threat with no ordering left, an
     /// itinerary that cannot go on): the plan has no child.
     Dead,
@@ -267,6 +272,9 @@ pub struct Search<'a, 'db> {
     /// The walks of [`Search::unrunnable`] so far, and the plans they
     /// dropped: the walk stops when it seldom drops one.
     walks: std::cell::Cell<(u64, u64)>,
+    /// Plans grow from their front ([`front`]): the relaxed composition
+    /// of the task, for their estimate.
+    composition: Option<front::Composition>,
 }
 
 /// How a search ended.
@@ -281,6 +289,8 @@ impl<'a, 'db> Search<'a, 'db> {
         let has_motion = config.motion != Motion::Off && task.motion.iter().any(|m| m.is_some());
         let geo = has_motion.then(|| Geo::new(task, h));
         let tokens = task.achievers.is_empty().then(|| tokens::Tokens::new(task));
+        let composition =
+            Search::front_applies(task, config, geo.is_some()).then(|| front::Composition::new(task));
         Search {
             task,
             h,
@@ -291,6 +301,7 @@ impl<'a, 'db> Search<'a, 'db> {
             tokens,
             from_seeds: Default::default(),
             walks: Default::default(),
+            composition,
         }
     }
 
@@ -331,6 +342,10 @@ impl<'a, 'db> Search<'a, 'db> {
             }
         }
         let (h, effort) = self.estimate(plan);
+        if !h.is_finite() {
+            // Grown from its front: what is left cannot run from there.
+            return None;
+        }
         let (busiest, total) = self.work(plan);
         let span = plan.makespan();
         Some((span.max(busiest) + penalty + STEP_COST * total, h, effort, span))
@@ -865,13 +880,23 @@ mod test_support {
         problem: &str,
         f: impl FnOnce(&Prepared<'_>, &Search<'_, '_>) -> T + std::panic::UnwindSafe,
     ) -> T {
+        with_search_as(Config::default(), names, domain, problem, f)
+    }
+
+    /// [`with_search`] under configuration `config`.
+    pub(super) fn with_search_as<T>(
+        config: Config,
+        names: (&str, &str),
+        domain: &str,
+        problem: &str,
+        f: impl FnOnce(&Prepared<'_>, &Search<'_, '_>) -> T + std::panic::UnwindSafe,
+    ) -> T {
         let mut host = crate::AnalysisHost::new();
         host.set_file_text(names.0, domain);
         let pf = host.set_file_text(names.1, problem);
         host.analysis()
             .with_db(|db| {
                 let unit = crate::host::first_problem(db, pf).expect("a problem");
-                let config = Config::default();
                 let prepared = prepare(db, unit, &config, &PlannerLimits::default()).ok().expect("prepared");
                 let search = Search::new(&prepared.task, &prepared.h, &config);
                 f(&prepared, &search)

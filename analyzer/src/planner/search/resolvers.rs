@@ -323,6 +323,7 @@ impl Search<'_, '_> {
                     }
                 }
             }
+            Flaw::Front(refine) => self.front_resolvers(p, refine, out),
             Flaw::Dead => {}
         }
     }

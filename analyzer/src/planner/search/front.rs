@@ -1,0 +1,551 @@
+//! Progression at the front of a hierarchical plan (configuration part
+//! `front`): the plan grows from its start, as a progression planner over
+//! the task network grows its prefix (pandaPI's search, Höller et al.,
+//! 2020).
+//!
+//! In a problem where no step is ever inserted, the elementary steps
+//! committed so far run first, in the order they were committed (each is
+//! ordered after the one before, and before every step not committed yet),
+//! so the state after them is known. The *front* is what may come next: the
+//! unrefined abstract steps and the elementary steps not committed that
+//! nothing left must precede. A plan's flaw is its front, and its children
+//! are
+//!
+//! - for each elementary step of the front whose conditions hold in that
+//!   state, the plan with it committed next: ordered after the last one
+//!   and before every step left, its conditions linked to the last
+//!   committed step (or the initial state) that made them true, so that no
+//!   step can threaten those links;
+//! - the refinements of one abstract step of the front (the newest): every
+//!   abstract step is refined some time, and the order in which they are
+//!   does not matter; its method's precondition is linked the same way,
+//!   and a method whose precondition does not hold there is no child.
+//!
+//! An elementary step of the front without effects whose conditions hold
+//! is committed alone: it changes nothing, so committing it first loses
+//! no plan. When nothing is left but the goal, the goal is committed.
+//!
+//! Other flaw orders choose a truck's route (which `get-to` drives from
+//! where) long before they know where the truck is at that point: on IPC
+//! 2020 Transport every `get-to` was refined before any of the truck's
+//! stops was linked, and a wrong route was found dead late, under every
+//! way to link and order the stops around it. At the front, the state
+//! says where the truck is, and a drive from elsewhere does not run.
+
+use rustc_hash::FxHashMap;
+
+use super::super::plan::{GOAL, INIT, Kind, OpenOrigin, Plan};
+use super::super::stn::{EPS, ORIGIN, Tp};
+use super::super::task::{Lit, Task, atom_of, is_neg, lit};
+use super::{Flaw, Search};
+
+/// The most operators and method instances of a task whose plans the
+/// default configuration grows from their front (between the search with
+/// refinements first and the one with links first): the relaxed
+/// composition is evaluated at every plan, and on IPC 2020 Monroe (74,349
+/// operators, 61,947 methods) the search expanded 3 plans in 10 s.
+pub const FRONT_MAX_ACTIONS: usize = 20_000;
+
+/// The state after the committed steps: for each atom a committed step
+/// writes, the last such step, its time point and the value it leaves.
+struct Prefix {
+    last: FxHashMap<u32, (u32, Tp, bool)>,
+}
+
+impl Prefix {
+    /// Whether `l` holds after the committed steps.
+    fn holds(&self, task: &Task<'_>, l: Lit) -> bool {
+        match self.last.get(&atom_of(l)) {
+            Some(&(_, _, v)) => v != is_neg(l),
+            None => task.holds_initially(l),
+        }
+    }
+
+    /// The step (and time point) that last made `l` true, when it holds.
+    fn producer(&self, task: &Task<'_>, l: Lit) -> Option<(u32, Tp)> {
+        match self.last.get(&atom_of(l)) {
+            Some(&(s, tp, v)) => (v != is_neg(l)).then_some((s, tp)),
+            None => task.holds_initially(l).then_some((INIT, ORIGIN)),
+        }
+    }
+}
+
+/// A plan's front: its prefix's state, the elementary steps not committed
+/// yet, the unrefined abstract steps, and which of them nothing left
+/// precedes.
+struct View {
+    prefix: Prefix,
+    /// Elementary steps not committed.
+    rest: Vec<u32>,
+    /// Elementary steps of the front.
+    steps: Vec<u32>,
+    /// Indices in `Plan::abstracts` of the abstract steps of the front.
+    abstracts: Vec<usize>,
+}
+
+impl Search<'_, '_> {
+    /// Whether the search grows plans from their front: configuration part
+    /// `front`, in a problem where no step is ever inserted, with
+    /// instantaneous actions, tasks without effects of their own, no timed
+    /// literals, no numeric fluents and no itineraries, and not in a repair.
+    pub(super) fn at_front(&self) -> bool {
+        self.composition.is_some() && !self.from_seeds.get()
+    }
+
+    /// Whether a problem and configuration allow [`Search::at_front`].
+    pub(super) fn front_applies(task: &Task<'_>, config: &super::Config, geo: bool) -> bool {
+        config.front
+            && task.htn.is_some()
+            && task.achievers.is_empty()
+            && task.tils.is_empty()
+            && task.numeric.is_empty()
+            && !geo
+            && task.ops.iter().all(|o| if o.is_abstract { o.effs.is_empty() } else { o.instant })
+    }
+
+    /// Whether the search under `config` grows plans from their front, and
+    /// the relaxed composition it evaluates at each plan is small enough
+    /// ([`FRONT_MAX_ACTIONS`]).
+    pub fn grows_from_front(task: &Task<'_>, config: &super::Config) -> bool {
+        let motion = config.motion != super::super::Motion::Off && task.motion.iter().any(|m| m.is_some());
+        Search::front_applies(task, config, motion)
+            && task.ops.len() + task.methods.len() <= FRONT_MAX_ACTIONS
+    }
+
+    /// Whether step `s` is an elementary step committed to the front.
+    fn committed(&self, p: &Plan, s: u32) -> bool {
+        let step = p.steps[s as usize];
+        p.front != ORIGIN
+            && self.elementary(step.kind)
+            && (step.start == p.front || p.stn.before(step.start, p.front))
+    }
+
+    fn view(&self, p: &Plan) -> View {
+        let task = self.task;
+        let mut done: Vec<(f64, u32)> = Vec::new();
+        let mut rest = Vec::new();
+        for (s, step) in p.steps.iter().enumerate() {
+            if !self.elementary(step.kind) {
+                continue;
+            }
+            if self.committed(p, s as u32) {
+                done.push((p.stn.est(step.start), s as u32));
+            } else {
+                rest.push(s as u32);
+            }
+        }
+        done.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut last = FxHashMap::default();
+        for &(_, s) in &done {
+            let mut effs: Vec<(Lit, Tp)> = p.effects(task, s).collect();
+            // Deletions first, then additions (PDDL's order).
+            effs.sort_by_key(|&(l, _)| !is_neg(l));
+            for (l, tp) in effs {
+                last.insert(atom_of(l), (s, tp, !is_neg(l)));
+            }
+        }
+        let unrefined: Vec<u32> = p.abstracts.iter().copied().collect();
+        let waits_for_step =
+            |t: Tp, me: u32| rest.iter().any(|&z| z != me && p.stn.before(p.steps[z as usize].start, t));
+        let waits_for_task =
+            |t: Tp, me: u32| unrefined.iter().any(|&a| a != me && p.stn.before(p.steps[a as usize].end, t));
+        let steps = rest
+            .iter()
+            .copied()
+            .filter(|&x| {
+                let t = p.steps[x as usize].start;
+                !waits_for_step(t, x) && !waits_for_task(t, x)
+            })
+            .collect();
+        let abstracts = unrefined
+            .iter()
+            .enumerate()
+            .filter(|&(_, &a)| {
+                let t = p.steps[a as usize].start;
+                !waits_for_step(t, a) && !waits_for_task(t, a)
+            })
+            .map(|(i, _)| i)
+            .collect();
+        View { prefix: Prefix { last }, rest, steps, abstracts }
+    }
+
+    /// The flaw of a plan grown from its front: its front, with the
+    /// abstract step whose refinements are among its children (the newest
+    /// of the front); [`Flaw::Dead`] when nothing can come next; `None`
+    /// when every step is committed and the goal holds.
+    pub(super) fn front_flaw(&self, p: &Plan) -> Option<Flaw> {
+        let view = self.view(p);
+        let refine = view.abstracts.iter().copied().max_by_key(|&i| p.steps[p.abstracts[i] as usize].born);
+        if refine.is_none() && view.rest.is_empty() {
+            // Nothing but the goal left.
+            if p.open.iter().any(|o| o.step == GOAL) {
+                return Some(Flaw::Front(None));
+            }
+            return None;
+        }
+        let runs = view.steps.iter().any(|&x| self.applicable(p, &view.prefix, x));
+        if refine.is_none() && !runs {
+            return Some(Flaw::Dead);
+        }
+        Some(Flaw::Front(refine))
+    }
+
+    /// Whether the conditions of step `x` not linked yet hold after the prefix.
+    fn applicable(&self, p: &Plan, prefix: &Prefix, x: u32) -> bool {
+        p.open.iter().filter(|o| o.step == x).all(|o| prefix.holds(self.task, o.lit))
+    }
+
+    /// The children of a plan for its front ([`Flaw::Front`]): the steps
+    /// of the front committed next, and the refinements of `refine`.
+    pub(super) fn front_resolvers(&self, p: &Plan, refine: Option<usize>, out: &mut Vec<Plan>) {
+        let view = self.view(p);
+        if refine.is_none() && view.rest.is_empty() {
+            out.extend(self.commit(p, &view, GOAL));
+            return;
+        }
+        let runs: Vec<u32> =
+            view.steps.iter().copied().filter(|&x| self.applicable(p, &view.prefix, x)).collect();
+        // A step without effects changes nothing: first, and alone.
+        if let Some(&x) =
+            runs.iter().find(|&&x| p.op_of(x).is_some_and(|o| self.task.ops[o as usize].effs.is_empty()))
+        {
+            out.extend(self.commit(p, &view, x));
+            return;
+        }
+        for &x in &runs {
+            if self.past_limit() {
+                return;
+            }
+            out.extend(self.commit(p, &view, x));
+        }
+        let Some(i) = refine else { return };
+        let s = p.abstracts[i];
+        let first_new = p.steps.len();
+        let mut refined = Vec::new();
+        self.resolvers(p, Flaw::Abstract(i), &mut refined);
+        'child: for mut c in refined {
+            if p.front != ORIGIN {
+                for k in first_new..c.steps.len() {
+                    let t = c.steps[k].start;
+                    if !c.stn.before(p.front, t) && !c.stn.add(p.front, t, EPS) {
+                        continue 'child;
+                    }
+                }
+            }
+            let mut k = c.open.len();
+            while k > 0 {
+                k -= 1;
+                let o = c.open[k];
+                if o.step != s || !matches!(o.origin, OpenOrigin::MethodPre(..)) {
+                    continue;
+                }
+                let Some((from, tp)) = view.prefix.producer(self.task, o.lit) else { continue 'child };
+                c.remove_open(k);
+                if !c.add_link(self.task, from, tp, &o) {
+                    continue 'child;
+                }
+            }
+            out.push(c);
+        }
+    }
+
+    /// Plan `p` with step `x` of its front committed next: after the last
+    /// committed step, before every step and unrefined abstract step left,
+    /// its conditions linked to the prefix. `None` when a condition does
+    /// not hold or the network refuses an ordering.
+    fn commit(&self, p: &Plan, view: &View, x: u32) -> Option<Plan> {
+        let mut c = p.clone();
+        let start = c.steps[x as usize].start;
+        if x != GOAL {
+            if p.front != ORIGIN && !c.stn.add(p.front, start, EPS) {
+                return None;
+            }
+            let later = view
+                .rest
+                .iter()
+                .copied()
+                .filter(|&z| z != x)
+                .chain(p.abstracts.iter().copied())
+                .map(|z| p.steps[z as usize].start);
+            for t in later {
+                if !c.stn.before(start, t) && !c.stn.add(start, t, EPS) {
+                    return None;
+                }
+            }
+        }
+        let mut k = c.open.len();
+        while k > 0 {
+            k -= 1;
+            let o = c.open[k];
+            if o.step != x {
+                continue;
+            }
+            let (from, tp) = view.prefix.producer(self.task, o.lit)?;
+            c.remove_open(k);
+            if !c.add_link(self.task, from, tp, &o) {
+                return None;
+            }
+        }
+        if x != GOAL {
+            c.front = start;
+        }
+        debug_assert!(x == GOAL || matches!(c.steps[x as usize].kind, Kind::Op(_)));
+        Some(c)
+    }
+}
+
+/// The relaxed composition of the task (Höller et al., 2018), the model of
+/// pandaPI's RC heuristics: deletions ignored, and each task a fact, made
+/// true by any of its methods once the method's preconditions and the
+/// facts of its subtasks are; an elementary operator makes its effects and
+/// its own fact true. Facts: the literals (`2 × atoms`), then one per
+/// operator.
+pub(super) struct Composition {
+    lits: usize,
+    /// Per action (the elementary operators, then the methods): its
+    /// preconditions, its effects and its own cost (an operator its
+    /// duration and ε, a method nothing).
+    pre: Vec<Vec<u32>>,
+    eff: Vec<Vec<u32>>,
+    own: Vec<f64>,
+    /// Per fact, the actions that need it (once per occurrence).
+    users: Vec<Vec<u32>>,
+}
+
+impl Composition {
+    pub(super) fn new(task: &Task<'_>) -> Composition {
+        let lits = task.g.atoms.len() * 2;
+        let facts = lits + task.ops.len();
+        let (mut pre, mut eff, mut own) = (Vec::new(), Vec::new(), Vec::new());
+        for (o, op) in task.ops.iter().enumerate() {
+            if op.is_abstract || op.dead {
+                continue;
+            }
+            pre.push(op.conds.iter().map(|c| c.lit).collect());
+            eff.push(op.effs.iter().map(|e| e.lit).chain([(lits + o) as u32]).collect());
+            own.push(op.duration.unwrap_or(0.0) + EPS);
+        }
+        for m in &task.methods {
+            let p: Vec<u32> = m
+                .pre
+                .iter()
+                .map(|c| c.lit)
+                .chain(m.subtasks.iter().map(|&(_, s)| (lits as u32) + s))
+                .collect();
+            pre.push(p);
+            eff.push(vec![(lits as u32) + m.task]);
+            own.push(0.0);
+        }
+        let mut users = vec![Vec::new(); facts];
+        for (a, p) in pre.iter().enumerate() {
+            for &f in p {
+                users[f as usize].push(a as u32);
+            }
+        }
+        Composition { lits, pre, eff, own, users }
+    }
+}
+
+impl Search<'_, '_> {
+    /// `h` and the effort of a plan grown from its front: pandaPI's RC2
+    /// with FF, from the state after the committed steps. The relaxed plan
+    /// (each fact's cheapest supporter, h_add's, from that state) that
+    /// makes true the fact of every step not committed and every unrefined
+    /// abstract step, and the goal; `h` the cost of its elementary
+    /// operators, the effort its actions. A task several steps of the plan
+    /// share counts once in it: each further step adds the task's h_add.
+    /// `INFINITY` when one of them cannot be reached even so: no order of
+    /// what is left runs from that state, and the plan is dead. A
+    /// progression planner's heuristic reads the state it reached: the
+    /// estimates from the initial state told a truck's `get-to` apart by
+    /// where the truck starts, not where it is.
+    pub(super) fn front_estimate(&self, p: &Plan) -> (f64, f64) {
+        let Some(comp) = &self.composition else { return (0.0, 0.0) };
+        let task = self.task;
+        let view = self.view(p);
+        let facts = comp.users.len();
+        let mut cost = vec![f64::INFINITY; facts];
+        let mut best = vec![u32::MAX; facts];
+        let mut settled = vec![false; facts];
+        let mut left: Vec<u32> = comp.pre.iter().map(|p| p.len() as u32).collect();
+        let mut sum = vec![0.0f64; comp.pre.len()];
+        let mut heap: std::collections::BinaryHeap<std::cmp::Reverse<(Cost, u32)>> = Default::default();
+        for a in 0..(comp.lits / 2) as u32 {
+            let l = lit(a, false);
+            let l = if view.prefix.holds(task, l) { l } else { l ^ 1 };
+            cost[l as usize] = 0.0;
+            heap.push(std::cmp::Reverse((Cost(0.0), l)));
+        }
+        let reach =
+            |a: usize,
+             c: f64,
+             cost: &mut Vec<f64>,
+             best: &mut Vec<u32>,
+             heap: &mut std::collections::BinaryHeap<std::cmp::Reverse<(Cost, u32)>>| {
+                let c = c + comp.own[a];
+                for &e in &comp.eff[a] {
+                    if c < cost[e as usize] {
+                        cost[e as usize] = c;
+                        best[e as usize] = a as u32;
+                        heap.push(std::cmp::Reverse((Cost(c), e)));
+                    }
+                }
+            };
+        for (a, _) in left.iter().enumerate().filter(|&(_, &n)| n == 0) {
+            reach(a, 0.0, &mut cost, &mut best, &mut heap);
+        }
+        while let Some(std::cmp::Reverse((Cost(c), f))) = heap.pop() {
+            if settled[f as usize] || c > cost[f as usize] {
+                continue;
+            }
+            settled[f as usize] = true;
+            for &a in &comp.users[f as usize] {
+                let a = a as usize;
+                left[a] -= 1;
+                sum[a] += c;
+                if left[a] == 0 {
+                    reach(a, sum[a], &mut cost, &mut best, &mut heap);
+                }
+            }
+        }
+        // The goals: the facts of what is left, and the goal's literals.
+        let mut goals: Vec<u32> = view
+            .rest
+            .iter()
+            .chain(p.abstracts.iter())
+            .filter_map(|&s| p.op_of(s))
+            .map(|o| (comp.lits as u32) + o)
+            .collect();
+        goals.extend(p.open.iter().filter(|o| o.step == GOAL).map(|o| o.lit));
+        goals.sort_unstable();
+        let (mut h, mut effort) = (0.0, 0.0);
+        for w in goals.windows(2) {
+            if w[0] == w[1] {
+                h += cost[w[0] as usize];
+            }
+        }
+        goals.dedup();
+        let mut marked = vec![false; comp.pre.len()];
+        let mut seen = vec![false; facts];
+        let mut stack = goals;
+        while let Some(f) = stack.pop() {
+            let f = f as usize;
+            if seen[f] || cost[f] == 0.0 && best[f] == u32::MAX {
+                continue;
+            }
+            seen[f] = true;
+            let a = best[f];
+            if a == u32::MAX {
+                return (f64::INFINITY, f64::INFINITY);
+            }
+            let a = a as usize;
+            if !marked[a] {
+                marked[a] = true;
+                h += comp.own[a];
+                effort += 1.0;
+                stack.extend_from_slice(&comp.pre[a]);
+            }
+        }
+        (h, effort + p.threats.len() as f64)
+    }
+}
+
+/// A cost ordered totally, for the heap.
+#[derive(Clone, Copy)]
+struct Cost(f64);
+
+impl PartialEq for Cost {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
+
+impl Eq for Cost {}
+
+impl PartialOrd for Cost {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Cost {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::Config;
+    use super::super::super::plan::Plan;
+    use super::super::Flaw;
+    use super::super::test_support::{refined_by, with_search_as};
+
+    /// A truck at `a` goes to `b`, then to `c`. `here` needs the truck at
+    /// the place already; `drive` needs it where it starts.
+    const DOMAIN: &str = "(define (domain d) (:requirements :hierarchy :typing)
+      (:types place)
+      (:predicates (at ?p - place) (road ?a ?b - place))
+      (:task tour :parameters ())
+      (:task get-to :parameters (?p - place))
+      (:method m-tour :parameters () :task (tour)
+        :ordered-subtasks (and (get-to b) (get-to c)))
+      (:method by-road :parameters (?a ?b - place) :task (get-to ?b) :subtasks (drive ?a ?b))
+      (:method here :parameters (?p - place) :task (get-to ?p) :precondition (at ?p) :subtasks (noop ?p))
+      (:action drive :parameters (?a ?b - place)
+        :precondition (and (at ?a) (road ?a ?b)) :effect (and (not (at ?a)) (at ?b)))
+      (:action noop :parameters (?p - place) :precondition (at ?p) :effect ()))";
+    const PROBLEM: &str = "(define (problem p) (:domain d)
+      (:objects a b c - place)
+      (:htn :subtasks (and (tour)))
+      (:init (at a) (road a b) (road b c) (road c b)))";
+
+    /// The front of the tour is its first `get-to`: refined into a drive
+    /// from `a` (the truck is there) or from `c` (where it is not yet),
+    /// never into `here`, whose precondition does not hold at the front.
+    /// The drive from `a` is committed next, its conditions linked to the
+    /// initial state; the drive from `c` can run nowhere next, and the
+    /// second `get-to` waits for the first: that plan is dead.
+    #[test]
+    fn a_plan_grows_from_its_front_with_the_steps_that_run_there() {
+        let config = Config::parse("AR-time-local-motion-front").expect("a configuration");
+        with_search_as(config, ("domain.hddl", "problem.hddl"), DOMAIN, PROBLEM, |prepared, search| {
+            let task = &prepared.task;
+            assert!(search.at_front());
+            let mut tour = refined_by(prepared, search, "m-tour");
+            let Some(Flaw::Front(Some(i))) = search.select(&mut tour) else { panic!("a get-to to refine") };
+            let get_to = tour.abstracts[i];
+            assert_eq!(task.show_op(tour.op_of(get_to).expect("an op")), "(get-to b)");
+            let mut children = Vec::new();
+            search.resolvers(&tour, Flaw::Front(Some(i)), &mut children);
+            let drive_of = |p: &Plan| {
+                (0..p.steps.len() as u32)
+                    .filter_map(|s| p.op_of(s).map(|o| (s, task.show_op(o))))
+                    .find(|(_, name)| name.starts_with("(drive"))
+            };
+            let mut names: Vec<String> = children.iter().filter_map(|c| drive_of(c).map(|d| d.1)).collect();
+            names.sort();
+            assert_eq!(names, ["(drive a b)", "(drive c b)"]);
+            assert_eq!(children.len(), 2, "no `here`: the truck is not at b");
+            for mut c in children {
+                let (drive, name) = drive_of(&c).expect("a drive");
+                let flaw = search.select(&mut c);
+                if name == "(drive c b)" {
+                    assert!(matches!(flaw, Some(Flaw::Dead)), "nothing can come next");
+                    continue;
+                }
+                let Some(Flaw::Front(None)) = flaw else { panic!("the drive to commit") };
+                let mut next = Vec::new();
+                search.resolvers(&c, Flaw::Front(None), &mut next);
+                assert_eq!(next.len(), 1);
+                let done = &next[0];
+                assert_eq!(done.front, done.steps[drive as usize].start);
+                assert!(done.open.iter().all(|o| o.step != drive), "its conditions are linked");
+                assert!(
+                    done.links.iter().filter(|l| l.to == drive).all(|l| l.from == 0),
+                    "to the initial state"
+                );
+            }
+        });
+    }
+}
