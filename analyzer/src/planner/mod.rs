@@ -301,7 +301,13 @@ impl PlannerLimits {
     /// These limits with the time since `started` counted as spent: what
     /// ran before (parsing, grounding) uses up the run's time limit.
     pub fn spent_since(&self, started: std::time::Instant) -> PlannerLimits {
-        PlannerLimits { time_spent: self.time_spent + started.elapsed(), ..self.clone() }
+        PlannerLimits { time_spent: self.time_spent_since(started), ..self.clone() }
+    }
+
+    /// The time spent before `started` and since: what counts against
+    /// [`PlannerLimits::time`] at this point.
+    pub fn time_spent_since(&self, started: std::time::Instant) -> std::time::Duration {
+        self.time_spent + started.elapsed()
     }
 }
 
@@ -534,7 +540,7 @@ impl<'db> Prepared<'db> {
         progress: &mut dyn FnMut(&Progress),
     ) -> Outcome<'db> {
         let started = std::time::Instant::now();
-        let spent = || limits.time_spent + started.elapsed();
+        let spent = || limits.time_spent_since(started);
         let first = PlannerLimits { first: true, ..limits.clone() };
         let mut best = self.search(db, config, &first, None, cancel, progress);
         if best.status != Status::Solved {
@@ -552,7 +558,7 @@ impl<'db> Prepared<'db> {
                 expanded: stats.expanded,
                 open: 0,
                 best_f: stats.best.map_or(plan.makespan, |q| q.cost),
-                elapsed: limits.time_spent + started.elapsed(),
+                elapsed: limits.time_spent_since(started),
                 makespan: Some(plan.makespan),
                 improved: true,
             })
@@ -611,7 +617,7 @@ impl<'db> Prepared<'db> {
             (Status::Limit(kind), _) if kind != LimitKind::Cancelled => stats.stopped_by = Some(kind),
             _ => {}
         }
-        stats.elapsed = limits.time_spent + started.elapsed();
+        stats.elapsed = limits.time_spent_since(started);
         best.stats = stats;
         best
     }
@@ -643,7 +649,7 @@ impl<'db> Prepared<'db> {
         let mut before = Stats::default();
         let last = phases.len() - 1;
         for (k, (phase, bound)) in phases.into_iter().enumerate() {
-            let spent = limits.time_spent + started.elapsed();
+            let spent = limits.time_spent_since(started);
             let nodes = limits.nodes.map(|n| n.saturating_sub(before.expanded));
             let phase_limits = if k == last {
                 PlannerLimits { time_spent: spent, nodes, ..limits.clone() }
@@ -659,7 +665,7 @@ impl<'db> Prepared<'db> {
             let done = before.expanded;
             let mut counted = |p: &Progress| progress(&Progress { expanded: done + p.expanded, ..*p });
             let mut outcome = self.search(db, &phase, &phase_limits, None, cancel, &mut counted);
-            let spent = limits.time_spent + started.elapsed();
+            let spent = limits.time_spent_since(started);
             let at_bound = k < last
                 && match outcome.status {
                     Status::Limit(LimitKind::Nodes) => {
