@@ -32,6 +32,10 @@ pub struct Heuristic {
     /// (sorted); `None` when the fixpoint was too large to compute, and any
     /// literal is assumed possible.
     pub may_add: Option<MayAdd>,
+    /// Per operator, in a problem where no step is ever inserted: the
+    /// literals that every refinement of it needs from outside
+    /// ([`needs`]); `None` elsewhere, or when too large to compute.
+    pub needs: Option<Vec<Vec<Lit>>>,
 }
 
 impl Heuristic {
@@ -150,7 +154,11 @@ impl Heuristic {
             }
         }
         let may_add = may_add(task);
-        Heuristic { cost, effort, refine_cost, refine_effort, again_cost, again_effort, may_add }
+        let needs = match &may_add {
+            Some(may) if task.achievers.is_empty() && task.htn.is_some() => needs(task, may),
+            _ => None,
+        };
+        Heuristic { cost, effort, refine_cost, refine_effort, again_cost, again_effort, may_add, needs }
     }
 
     pub fn lit_cost(&self, l: Lit) -> f64 {
@@ -164,6 +172,12 @@ impl Heuristic {
     /// Whether a literal is reachable at all in the relaxed model.
     pub fn reachable(&self, l: Lit) -> bool {
         self.lit_cost(l).is_finite()
+    }
+
+    /// The literals every refinement of operator `op` needs from outside
+    /// it ([`needs`]); none when unknown.
+    pub fn needs(&self, op: u32) -> &[Lit] {
+        self.needs.as_ref().and_then(|n| n.get(op as usize)).map_or(&[], Vec::as_slice)
     }
 
     /// Whether refining abstract operator `op` may make `l` true.
@@ -259,6 +273,90 @@ fn may_add(task: &Task<'_>) -> Option<MayAdd> {
         sets.push(v);
     }
     Some(MayAdd { comp, sets })
+}
+
+/// What every refinement of each operator needs from outside it: the
+/// literals that some elementary step of any refinement needs and that no
+/// other step of the refinement may make true (so the initial state, or a
+/// step outside it, must). An elementary operator needs its conditions but
+/// those it makes true itself before (at its start, for a later condition
+/// of a durative one); a method, its preconditions and what each subtask
+/// needs that no other subtask may add ([`Heuristic::may_add`]); a task,
+/// what each of its methods needs. An operator in a recursion (a strongly
+/// connected component of more than one operator, or one with itself as a
+/// subtask) needs nothing known, nor does one that has no method: an
+/// under-approximation, which a plan can rely on ([`super::search`] drops
+/// a plan with an unrefined abstract step that needs a literal nothing can
+/// make true before it). IPC 2020 Woodworking binds a part's old treatment
+/// in a method's free parameter: the task that grinds it from there needs
+/// the part in that treatment, however it is refined, and a binding it is
+/// not in is dropped when chosen. Bounded in size like [`may_add`].
+fn needs(task: &Task<'_>, may: &MayAdd) -> Option<Vec<Vec<Lit>>> {
+    const CAP: usize = 4_000_000;
+    let n = task.ops.len();
+    let mut succ: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut methods: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for (i, m) in task.methods.iter().enumerate() {
+        methods[m.task as usize].push(i as u32);
+        for &(_, s) in &m.subtasks {
+            succ[m.task as usize].push(s);
+        }
+    }
+    for v in &mut succ {
+        v.sort_unstable();
+        v.dedup();
+    }
+    let (_, comps) = components(&succ);
+    let mut needs: Vec<Vec<Lit>> = vec![Vec::new(); n];
+    let mut total = 0usize;
+    let may_add = |op: u32, l: Lit| may.of(op).binary_search(&l).is_ok();
+    // `components` lists a component after every component it reaches.
+    for members in &comps {
+        let &[o] = members.as_slice() else { continue };
+        if succ[o as usize].contains(&o) {
+            continue;
+        }
+        let op = &task.ops[o as usize];
+        let mut v: Vec<Lit> = if !op.is_abstract {
+            // A condition after its start that its own start makes true.
+            let own = |c: &super::task::Cond<'_>| {
+                !op.instant
+                    && c.at != End::Start
+                    && op.effs.iter().any(|e| e.lit == c.lit && e.at == End::Start)
+            };
+            op.conds.iter().filter(|c| !own(c)).map(|c| c.lit).collect()
+        } else {
+            let mut all: Option<Vec<Lit>> = None;
+            for &m in &methods[o as usize] {
+                let m = &task.methods[m as usize];
+                let mut ext: Vec<Lit> = m.pre.iter().map(|c| c.lit).collect();
+                for (i, &(_, s)) in m.subtasks.iter().enumerate() {
+                    let others = || m.subtasks.iter().enumerate().filter(move |&(j, _)| j != i);
+                    ext.extend(
+                        needs[s as usize].iter().filter(|&&l| !others().any(|(_, &(_, t))| may_add(t, l))),
+                    );
+                }
+                ext.sort_unstable();
+                ext.dedup();
+                all = Some(match all {
+                    None => ext,
+                    Some(a) => a.into_iter().filter(|l| ext.binary_search(l).is_ok()).collect(),
+                });
+                if all.as_ref().is_some_and(Vec::is_empty) {
+                    break;
+                }
+            }
+            all.unwrap_or_default()
+        };
+        v.sort_unstable();
+        v.dedup();
+        total += v.len();
+        if total > CAP {
+            return None;
+        }
+        needs[o as usize] = v;
+    }
+    Some(needs)
 }
 
 /// The strongly connected components of a graph (Tarjan's algorithm,

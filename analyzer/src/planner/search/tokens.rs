@@ -1,7 +1,7 @@
 //! Hierarchical plans that cannot run. In a problem where no step is ever
 //! inserted (purely hierarchical: every step comes from a method), the
 //! steps of a plan are in every plan it leads to, and only its unrefined
-//! abstract steps may add more. Two ways such a plan is dead, whatever the
+//! abstract steps may add more. Three ways such a plan is dead, whatever the
 //! links and orderings chosen later ([`Search::doomed`]):
 //!
 //! - a step can never run: its conditions are not reached from the
@@ -17,7 +17,9 @@
 //!   When the plan's users of a literal cannot each be given a maker of
 //!   their own that can come before them (a bipartite matching, Hall's
 //!   condition) and no unrefined abstract step that can come before the
-//!   one left over may make the literal, the plan is dead.
+//!   one left over may make the literal, the plan is dead;
+//! - an unrefined abstract step needs, however it is refined, a literal
+//!   that nothing can make true before it ([`Search::unmet`]).
 //!
 //! Such a plan is dropped when generated ([`Search::score`]), instead of
 //! when every way to link and order its steps has been tried.
@@ -87,7 +89,66 @@ impl Search<'_, '_> {
     pub(super) fn doomed(&self, p: &Plan) -> bool {
         self.tokens.is_some()
             && !self.from_seeds.get()
-            && (self.stuck(p).is_some() || self.starved(p).is_some())
+            && (self.stuck(p).is_some() || self.starved(p).is_some() || self.unmet(p).is_some())
+    }
+
+    /// An unrefined abstract step of the plan, and a literal that every
+    /// refinement of it needs from outside it ([`Heuristic::needs`]) and
+    /// that nothing can make true before it: the initial state does not,
+    /// no step that can come before its end makes it, and no other
+    /// unrefined abstract step that can start before its end may. The
+    /// need falls inside the step, so its producer would have to. An
+    /// IPC 2020 Woodworking `grindNplane` bound to grind a part that is
+    /// not untreated, as untreated: each of its methods needs the part
+    /// untreated, which nothing makes it; before, it was found dead only
+    /// once it and the choice of its action's free parameters were
+    /// refined, in every plan that had it.
+    ///
+    /// [`Heuristic::needs`]: super::super::heuristic::Heuristic::needs
+    pub(super) fn unmet(&self, p: &Plan) -> Option<(u32, Lit)> {
+        let task = self.task;
+        if self.h.needs.is_none() || p.abstracts.is_empty() {
+            return None;
+        }
+        let missing = |l: &Lit| !task.holds_initially(*l);
+        let mut wanted: Vec<Lit> = p
+            .abstracts
+            .iter()
+            .filter_map(|&a| p.op_of(a))
+            .flat_map(|o| self.h.needs(o).iter().copied())
+            .filter(missing)
+            .collect();
+        if wanted.is_empty() {
+            return None;
+        }
+        wanted.sort_unstable();
+        wanted.dedup();
+        // The plan's effects on them: (literal, time point).
+        let mut made: Vec<(Lit, Tp)> = Vec::new();
+        for s in 0..p.steps.len() as u32 {
+            made.extend(p.effects(task, s).filter(|(l, _)| wanted.binary_search(l).is_ok()));
+        }
+        made.sort_unstable();
+        for &a in p.abstracts.iter() {
+            let Some(op) = p.op_of(a) else { continue };
+            let end = p.steps[a as usize].end;
+            for &l in self.h.needs(op).iter().filter(|l| missing(l)) {
+                let from = made.partition_point(|&(x, _)| x < l);
+                if made[from..].iter().take_while(|&&(x, _)| x == l).any(|&(_, tp)| !p.stn.before(end, tp)) {
+                    continue;
+                }
+                let may = p.abstracts.iter().any(|&b| {
+                    let st = p.steps[b as usize];
+                    b != a
+                        && matches!(st.kind, Kind::Op(o) if self.h.may_add(o, l))
+                        && !p.stn.before(end, st.start)
+                });
+                if !may {
+                    return Some((a, l));
+                }
+            }
+        }
+        None
     }
 
     /// An elementary step of the plan whose conditions no run of the plan
@@ -354,6 +415,42 @@ mod tests {
                     // Not a link nothing supports: the initial state does.
                     let ready = search.ready_links(&plan);
                     assert!(search.dead_link(&plan, &ready).is_none(), "{method}");
+                }
+                assert_eq!(search.score(&mut plan).is_none(), dead, "{method}");
+            });
+        }
+    }
+
+    /// `paint` needs `(blue)` however it is refined (both its methods'
+    /// actions need it; only `paint-b`'s needs `(red)` too), and only
+    /// `make-blue` makes it.
+    const PAINT: &str = "(define (domain d) (:requirements :hierarchy)
+      (:predicates (token) (red) (blue) (done))
+      (:task job :parameters ())
+      (:task paint :parameters ())
+      (:method bare :parameters () :task (job) :subtasks (and (paint)))
+      (:method made :parameters () :task (job) :subtasks (and (make-blue) (paint)))
+      (:method late :parameters () :task (job) :ordered-subtasks (and (paint) (make-blue)))
+      (:method paint-a :parameters () :task (paint) :subtasks (and (use-blue)))
+      (:method paint-b :parameters () :task (paint) :subtasks (and (use-blue-red)))
+      (:action use-blue :parameters () :precondition (blue) :effect (done))
+      (:action use-blue-red :parameters () :precondition (and (blue) (red)) :effect (done))
+      (:action make-blue :parameters () :effect (blue)))";
+
+    /// An unrefined `paint` with nothing that makes `(blue)` before it is
+    /// dead before either of its methods is tried; a `make-blue` that can
+    /// come before it keeps it.
+    #[test]
+    fn an_abstract_step_that_needs_what_nothing_makes_before_it_is_unmet() {
+        for (method, dead) in [("bare", true), ("made", false), ("late", true)] {
+            refined(PAINT, method, |task, search, mut plan| {
+                let paint = task.ops.iter().position(|o| &*o.name == "paint").expect("paint") as u32;
+                let needs: Vec<String> = search.h.needs(paint).iter().map(|&l| task.show_lit(l)).collect();
+                assert_eq!(needs, ["(blue)"], "what every refinement of paint needs");
+                let unmet = search.unmet(&plan).map(|(s, l)| (plan.op_of(s), task.show_lit(l)));
+                assert_eq!(unmet.is_some(), dead, "{method}: {unmet:?}");
+                if dead {
+                    assert_eq!(unmet, Some((Some(paint), "(blue)".to_string())));
                 }
                 assert_eq!(search.score(&mut plan).is_none(), dead, "{method}");
             });
