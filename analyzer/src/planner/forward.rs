@@ -23,16 +23,16 @@
 //!   validator's evaluator). This is valid for every domain where no
 //!   action needs another to run while it does; where one does, this
 //!   phase finds no plan and the partial-order search goes on.
-//! - **Heuristic**: the relaxed plan of FF (from h_add's best supporters), over literals (a negative
-//!   condition is a fact the initial state or a deletion makes true), with
-//!   unit costs. A numeric condition that does not hold in the state is a
+//! - **Heuristic**: the relaxed plan of FF (from h_add's best
+//!   supporters), over literals (a negative condition is a fact the
+//!   initial state or a deletion makes true), with unit costs. A numeric condition that does not hold in the state is a
 //!   fact that the actions whose effect on its fluent may make it hold
 //!   achieve: an increase for `(>= (fuel a) x)`, an assignment of a value
 //!   where it holds (`refuel` to capacity), any effect the analysis cannot
-//!   place ([`helpers`]). Helpful actions: the relaxed plan's actions
+//!   place (`helpers`). Helpful actions: the relaxed plan's actions
 //!   applicable in the state.
 //! - **The plan** is turned into a partial-order plan by
-//!   [`super::Prepared::forward`]: the sequence, with its sequential
+//!   `Prepared::forward`: the sequence, with its sequential
 //!   times, is the start plan of the partial-order search
 //!   ([`super::search::Seed`]): each condition linked to the last step
 //!   before it that made it true, threats ordered as in the sequence, the
@@ -662,7 +662,7 @@ struct Node {
 /// The lazy greedy best-first search: a state is made and estimated when
 /// it is taken from an open list, its successors enter with its estimate.
 /// Two open lists (every successor; the helpful ones), taken in turn, the
-/// helpful one [`BOOST`] more times after each better estimate.
+/// helpful one `BOOST` more times after each better estimate.
 pub fn search(
     task: &Task<'_>,
     limits: &PlannerLimits,
@@ -959,8 +959,9 @@ impl<'db> Prepared<'db> {
     /// search alone when the forward phase does not apply
     /// ([`applies`]) or the configuration says `noforward`; with
     /// `forward`, the forward phase first; by default the partial-order
-    /// search for [`FORWARD_AFTER`] of the time left, then the forward
-    /// phase. When the forward phase finds no sequence, the partial-order
+    /// search for [`FORWARD_AFTER`] of the time left (or until the memory
+    /// limit: its open list is freed), then the forward phase. Without a
+    /// time limit, the partial-order search alone unless `forward`. When the forward phase finds no sequence, the partial-order
     /// search runs for what is left. The statistics add up the phases'.
     pub(super) fn first_plan(
         &self,
@@ -1008,8 +1009,15 @@ impl<'db> Prepared<'db> {
             });
             // Its open list is freed: the forward phase comes next.
             let first = self.search(db, config, &phase(share, &before, false), None, cancel, progress);
-            let at_share = matches!(first.status, Status::Limit(LimitKind::Time))
-                && limits.time.is_none_or(|t| limits.time_spent_since(started) < t);
+            // At its share of the time, or at the memory limit: its open
+            // list, freed, was what filled the memory.
+            let at_share = match first.status {
+                Status::Limit(LimitKind::Time) => {
+                    limits.time.is_none_or(|t| limits.time_spent_since(started) < t)
+                }
+                Status::Limit(LimitKind::Memory) => true,
+                _ => false,
+            };
             if !at_share {
                 return first;
             }
