@@ -542,7 +542,7 @@ impl<'a, 'db> Forward<'a, 'db> {
                     }
                 }
             }
-            let Some(Reverse((c, f))) = heap.pop() else { return None };
+            let Reverse((c, f)) = heap.pop()?;
             if x.done_stamp[f as usize] == stamp || c > x.cost[f as usize] {
                 continue;
             }
