@@ -286,6 +286,46 @@ fn configurations_parse_like_the_papers() {
     }
     assert!(Config::parse("AR-time-local-wobble").is_err());
     assert!(Config::parse("bare").expect("bare").bare);
+    for name in ["AR-time-local-motion-forward", "AR-time-local-motion-noforward"] {
+        let c = Config::parse(name).expect(name);
+        assert_eq!(c.name(), name);
+    }
+}
+
+/// Ten people to fly with three planes that must refuel: the partial-order
+/// search finds no plan within 20,000 expansions; the forward phase
+/// (`forward`) finds a sequence in a few hundred states, and the plan made
+/// of it is valid, scheduled with overlaps (boardings together, a refuel
+/// during a debarking): a makespan below the sum of the durations.
+#[test]
+fn the_forward_phase_plans_what_the_partial_order_search_does_not_reach() {
+    let path = root().join("tests/planner/passengers-need-the-forward-phase.pddl");
+    let nodes = PlannerLimits { nodes: Some(20_000), first: true, ..limits(600) };
+    let forward = Config::parse("AR-time-local-motion-forward").expect("a configuration");
+    let (mut host, result) = plan(&path, &path, &forward, &nodes);
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert!(result.stats.expanded <= 2_000, "{} states and plans expanded", result.stats.expanded);
+    assert_valid(&mut host, &path, &result);
+    let solved = result.plan.as_ref().expect("a plan");
+    assert!(solved.steps.iter().any(|s| s.name == "refuel"), "the planes refuel");
+    let sum: f64 = solved.steps.iter().map(|s| s.length()).sum();
+    assert!(solved.makespan < sum - 10.0, "makespan {} of steps lasting {sum} in all", solved.makespan);
+    let po = Config::parse("AR-time-local-motion-noforward").expect("a configuration");
+    let (_, alone) = plan(&path, &path, &po, &nodes);
+    assert_eq!(alone.status, Status::Limit(hipop_analyzer::planner::LimitKind::Nodes));
+}
+
+/// A fuse fixed while a light is on: no sequence of actions run one after
+/// another reaches the goal, so the forward phase finds none, and the
+/// partial-order search after it overlaps the two actions.
+#[test]
+fn the_partial_order_search_runs_when_the_forward_phase_finds_no_sequence() {
+    let path = root().join("tests/planner/light-while-fixing.pddl");
+    let nodes = PlannerLimits { nodes: Some(2_000), first: true, ..limits(600) };
+    let forward = Config::parse("AR-time-local-motion-forward").expect("a configuration");
+    let (mut host, result) = plan(&path, &path, &forward, &nodes);
+    assert_eq!(result.status, Status::Solved, "{:?}", result.diagnostics);
+    assert_valid(&mut host, &path, &result);
 }
 
 /// Plans a fixture of `tests/planner` (domain and problem in one file) with

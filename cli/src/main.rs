@@ -218,7 +218,10 @@ struct PlanArgs {
     /// hierarchical problems, refinements first, plans grown from their
     /// front like a progression planner's, or links first only; by default
     /// refinements first for 8,192 expansions and a quarter of the time,
-    /// then from the front for a quarter, then links first), `bare`
+    /// then from the front for a quarter, then links first), `forward` or
+    /// `noforward` (in problems without a hierarchy, the forward phase, a
+    /// progression search, first, or not at all; by default after the
+    /// partial-order search's first quarter of the time), `bare`
     /// (ignore abstract actions).
     /// `AR-time-local-motion-eager-nolookahead-nosteps` is the
     /// paper's search (docs/planner.md).

@@ -17,6 +17,7 @@
 //! Pure: the caller gives the limits, a cancellation predicate and a
 //! progress callback; nothing here does I/O.
 
+pub mod forward;
 pub mod heuristic;
 pub mod itinerary;
 pub mod motion;
@@ -107,7 +108,23 @@ pub struct Config {
     /// `front`: in a purely hierarchical problem, plans grow from their
     /// front, as in a progression planner (`search::front`).
     pub front: bool,
+    /// `forward`: in a problem without a hierarchy, the forward phase
+    /// ([`forward`]) first, for the whole time; the partial-order search
+    /// after it only when it finds no sequence. By default the
+    /// partial-order search runs first, for [`FORWARD_AFTER`] of the time.
+    pub forward: bool,
+    /// `noforward`: no forward phase.
+    pub noforward: bool,
 }
+
+/// In a problem without a hierarchy (where [`forward::applies`]), the
+/// default sequence: the partial-order search for this share of the time
+/// left, then the forward phase for the rest (then, if that finds no
+/// sequence, the partial-order search again). The partial-order search
+/// solves the smaller problems in a fraction of a second, often with
+/// shorter makespans; the forward phase solves the larger ones it never
+/// gets near.
+pub const FORWARD_AFTER: f64 = 0.25;
 
 /// In a purely hierarchical problem, the search with refinements first
 /// (`refine`) runs for at most this many expansions and a quarter of the
@@ -167,6 +184,8 @@ impl Config {
             refine: false,
             links: false,
             front: false,
+            forward: false,
+            noforward: false,
         };
         for part in name.split('-').filter(|p| !p.is_empty()) {
             match part.to_ascii_lowercase().as_str() {
@@ -187,9 +206,11 @@ impl Config {
                 "refine" => c.refine = true,
                 "links" => c.links = true,
                 "front" => c.front = true,
+                "forward" => c.forward = true,
+                "noforward" => c.noforward = true,
                 other => {
                     return Err(format!(
-                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, refine, links, front, bare)"
+                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, refine, links, front, forward, noforward, bare)"
                     ));
                 }
             }
@@ -238,6 +259,12 @@ impl Config {
         }
         if self.front {
             parts.push("front");
+        }
+        if self.forward {
+            parts.push("forward");
+        }
+        if self.noforward {
+            parts.push("noforward");
         }
         parts.join("-")
     }
@@ -445,8 +472,10 @@ pub fn plan<'db>(
             let hierarchical = prepared.task.htn.is_some() && prepared.task.achievers.is_empty();
             if hierarchical && !config.refine && !config.links && !config.front && !config.bare {
                 prepared.refine_then_links(db, config, &limits, cancel, progress)
-            } else if limits.first || config.bare || prepared.task.htn.is_some() {
+            } else if prepared.task.htn.is_some() {
                 prepared.search(db, config, &limits, None, cancel, progress)
+            } else if limits.first || config.bare {
+                prepared.first_plan(db, config, &limits, cancel, progress)
             } else {
                 prepared.improve(db, config, &limits, cancel, progress)
             }
@@ -542,7 +571,7 @@ impl<'db> Prepared<'db> {
         let started = std::time::Instant::now();
         let spent = || limits.time_spent_since(started);
         let first = PlannerLimits { first: true, ..limits.clone() };
-        let mut best = self.search(db, config, &first, None, cancel, progress);
+        let mut best = self.first_plan(db, config, &first, cancel, progress);
         if best.status != Status::Solved {
             return best;
         }

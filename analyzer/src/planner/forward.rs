@@ -1,0 +1,1094 @@
+//! The forward phase: a progression (state-space) search for problems
+//! without a hierarchy, whose plan the partial-order planner then takes
+//! over.
+//!
+//! The partial-order search makes a child per way to support an open link
+//! (a hundred new steps for a ZenoTravel fuel level) and expands a few
+//! thousand plans a second: on the larger IPC 2002 problems it never gets
+//! near a plan. A greedy best-first search over states with FF's relaxed
+//! plan heuristic and its helpful actions (Hoffmann and Nebel 2001; lazy
+//! evaluation with a second open list of preferred operators, as Fast
+//! Downward's lazy greedy search) finds plans there in seconds.
+//!
+//! - **States**: the atoms that hold and the values of the numeric fluents
+//!   the planner follows ([`super::numeric`]); a state met before is not
+//!   searched again (the map is by the state's hash, states compared in
+//!   full).
+//! - **Actions run one after another.** A durative action's `at start`
+//!   conditions are checked in the state, its duration computed there (a
+//!   duration that reads a fluent, at the start), its start effects
+//!   applied (deletions first, then additions, as PDDL 2.1 says), its
+//!   `over all` and `at end` conditions checked in the state they leave,
+//!   and its end effects applied. Numeric effects are exact (the
+//!   validator's evaluator). This is valid for every domain where no
+//!   action needs another to run while it does; where one does, this
+//!   phase finds no plan and the partial-order search goes on.
+//! - **Heuristic**: the relaxed plan of FF (from h_add's best
+//!   supporters), over literals (a negative condition is a fact the
+//!   initial state or a deletion makes true), with unit costs. A numeric condition that does not hold in the state is a
+//!   fact that the actions whose effect on its fluent may make it hold
+//!   achieve: an increase for `(>= (fuel a) x)`, an assignment of a value
+//!   where it holds (`refuel` to capacity), any effect the analysis cannot
+//!   place (`helpers`). Helpful actions: the relaxed plan's actions
+//!   applicable in the state.
+//! - **The plan** is turned into a partial-order plan by
+//!   `Prepared::forward`: the sequence, with its sequential
+//!   times, is the start plan of the partial-order search
+//!   ([`super::search::Seed`]): each condition linked to the last step
+//!   before it that made it true, threats ordered as in the sequence, the
+//!   happenings that touch the same numeric fluent in the sequence's
+//!   order. The temporal network then schedules the steps with overlaps,
+//!   and the redundant steps go as from any plan.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use std::time::Instant;
+
+use rustc_hash::FxHashMap;
+
+use super::numeric::NumCond;
+use super::output;
+use super::search::{End2, Search, Seed, SeedOrder, SeedStep};
+use super::stn::EPS;
+use super::task::{End, Lit, Task, atom_of, is_neg};
+use super::{
+    Config, FORWARD_AFTER, LimitKind, Outcome, PlannerLimits, Prepared, Progress, Quality, Stats, Status,
+};
+use crate::db::Db;
+
+/// A step of the sequence found: its operator and its times when the
+/// actions run one after another, [`EPS`] apart.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Step {
+    pub op: u32,
+    pub start: f64,
+    pub end: f64,
+}
+
+/// How the forward search ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Found {
+    /// A sequence that reaches the goal.
+    Plan(Vec<Step>),
+    /// Every state reachable by running actions one after another was
+    /// searched (or judged a dead end by the relaxation): no such
+    /// sequence. A plan whose actions must overlap may still exist.
+    Exhausted,
+    Limit(LimitKind),
+}
+
+/// Whether the forward search can plan this task: no `:htn`, no abstract
+/// action it may insert, no timed initial literals.
+pub fn applies(task: &Task<'_>) -> bool {
+    task.htn.is_none()
+        && task.tils.is_empty()
+        && !task.ops.iter().any(|o| o.is_abstract && o.allowed && !o.dead && !o.choice)
+}
+
+/// The value stored for an undefined fluent.
+const UNDEFINED: u64 = u64::MAX;
+
+/// Not reached, in the relaxation.
+const FAR: u32 = u32::MAX;
+
+/// What the forward search expands between two looks at the memory.
+const MEMORY_EVERY: u64 = 256;
+
+/// A state: the atoms that hold (a bit each) and every resource's value
+/// (its bits, [`UNDEFINED`] when it has none).
+#[derive(Clone, PartialEq, Eq, Hash)]
+struct State {
+    atoms: Box<[u64]>,
+    vals: Box<[u64]>,
+}
+
+impl State {
+    fn has(&self, atom: u32) -> bool {
+        self.atoms[(atom / 64) as usize] >> (atom % 64) & 1 == 1
+    }
+
+    fn holds(&self, l: Lit) -> bool {
+        self.has(atom_of(l)) != is_neg(l)
+    }
+
+    fn set(&mut self, l: Lit) {
+        let a = atom_of(l);
+        let (w, b) = ((a / 64) as usize, a % 64);
+        if is_neg(l) {
+            self.atoms[w] &= !(1u64 << b);
+        } else {
+            self.atoms[w] |= 1u64 << b;
+        }
+    }
+
+    fn value(&self, res: u32) -> Option<f64> {
+        match self.vals[res as usize] {
+            UNDEFINED => None,
+            bits => Some(f64::from_bits(bits)),
+        }
+    }
+
+    fn set_value(&mut self, res: u32, v: Option<f64>) {
+        self.vals[res as usize] = match v {
+            // -0.0 and 0.0 are one value.
+            Some(x) if !x.is_nan() => (x + 0.0).to_bits(),
+            _ => UNDEFINED,
+        };
+    }
+
+    fn bytes(&self) -> usize {
+        8 * (self.atoms.len() + self.vals.len()) + 64
+    }
+}
+
+/// The ground operators the forward search runs, and its relaxation.
+struct Forward<'a, 'db> {
+    task: &'a Task<'db>,
+    /// The operators it runs (elementary, allowed, not dead), by local id.
+    ops: Vec<u32>,
+    /// By atom: the local operators whose first positive `at start`
+    /// condition is that atom; `unkeyed`: those without one.
+    keyed: Vec<Vec<u32>>,
+    unkeyed: Vec<u32>,
+    /// Facts of the relaxation: the literals some condition or goal
+    /// needs, then one per group of numeric conditions ([`helpers`]).
+    fact_lit: Vec<Lit>,
+    n_facts: usize,
+    /// Per local operator: the literal facts it needs, the numeric
+    /// conditions it needs at its start (index in its operator's
+    /// `num_conds`, and their fact), the facts it adds.
+    pre: Lists,
+    num_pre: Vec<Vec<(u32, u32)>>,
+    /// Per local operator: it has numeric conditions.
+    numeric: Vec<bool>,
+    add: Lists,
+    /// Per literal fact: the local operators that need it; `no_pre`: the
+    /// local operators that need none.
+    consumers: Lists,
+    no_pre: Vec<u32>,
+    goals: Vec<u32>,
+    goal_lits: Vec<Lit>,
+}
+
+/// Lists of numbers by index, in one array (the relaxation goes through
+/// those of a hundred thousand operators per state: one array each, not a
+/// vector each, keeps them near in memory).
+struct Lists {
+    starts: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Lists {
+    fn new(lists: Vec<Vec<u32>>) -> Lists {
+        let mut starts = Vec::with_capacity(lists.len() + 1);
+        let mut items = Vec::with_capacity(lists.iter().map(Vec::len).sum());
+        starts.push(0);
+        for l in lists {
+            items.extend(l);
+            starts.push(items.len() as u32);
+        }
+        Lists { starts, items }
+    }
+
+    fn get(&self, i: usize) -> &[u32] {
+        &self.items[self.starts[i] as usize..self.starts[i + 1] as usize]
+    }
+
+    fn len_of(&self, i: usize) -> u32 {
+        self.starts[i + 1] - self.starts[i]
+    }
+}
+
+/// The work arrays of the relaxed plans: a fact's cost and achiever, an
+/// operator's conditions left and cost, valid when their stamp is the
+/// call's.
+struct Scratch {
+    stamp: u32,
+    fact_stamp: Vec<u32>,
+    op_stamp: Vec<u32>,
+    cost: Vec<u32>,
+    achiever: Vec<u32>,
+    counter: Vec<u32>,
+    waiting: Vec<u32>,
+    op_cost: Vec<u32>,
+    /// Per operator: its numeric facts that did not hold in the state
+    /// (`touched`: the operators with some).
+    unmet: Vec<Vec<u32>>,
+    touched: Vec<u32>,
+    /// Per numeric fact: the operators waiting for it (`waited`: the
+    /// facts with some).
+    waiters: Vec<Vec<u32>>,
+    waited: Vec<u32>,
+    /// h_add: a fact's cost is final (popped), per stamp; an operator's
+    /// sum of its conditions' costs so far.
+    done_stamp: Vec<u32>,
+    sum: Vec<u32>,
+    /// Marked in the relaxed plan: the complement of the call's stamp.
+    marked_op: Vec<u32>,
+    marked_fact: Vec<u32>,
+}
+
+impl<'a, 'db> Forward<'a, 'db> {
+    fn new(task: &'a Task<'db>) -> Forward<'a, 'db> {
+        let ops: Vec<u32> = (0..task.ops.len() as u32)
+            .filter(|&o| {
+                let op = &task.ops[o as usize];
+                !op.is_abstract && op.allowed && !op.dead
+            })
+            .collect();
+        let n_atoms = task.init.len();
+        let mut keyed = vec![Vec::new(); n_atoms];
+        let mut unkeyed = Vec::new();
+        for (k, &o) in ops.iter().enumerate() {
+            let op = &task.ops[o as usize];
+            match op.conds.iter().find(|c| c.at == End::Start && !is_neg(c.lit)) {
+                Some(c) => keyed[atom_of(c.lit) as usize].push(k as u32),
+                None => unkeyed.push(k as u32),
+            }
+        }
+        // The literal facts.
+        let mut fact_of: FxHashMap<Lit, u32> = FxHashMap::default();
+        let mut fact_lit = Vec::new();
+        let mut fact = |l: Lit, fact_lit: &mut Vec<Lit>| -> u32 {
+            *fact_of.entry(l).or_insert_with(|| {
+                fact_lit.push(l);
+                (fact_lit.len() - 1) as u32
+            })
+        };
+        let mut pre = Vec::with_capacity(ops.len());
+        for &o in &ops {
+            let op = &task.ops[o as usize];
+            let mut p: Vec<u32> = Vec::new();
+            for c in &op.conds {
+                // A condition at the end that the action's own start makes
+                // true is no precondition of the relaxed action.
+                let own = c.at == End::End && op.effs.iter().any(|e| e.at == End::Start && e.lit == c.lit);
+                if !own {
+                    p.push(fact(c.lit, &mut fact_lit));
+                }
+            }
+            p.sort_unstable();
+            p.dedup();
+            pre.push(p);
+        }
+        let goal_lits: Vec<Lit> = task.goals.iter().map(|g| g.0).collect();
+        let mut goals: Vec<u32> = goal_lits.iter().map(|&l| fact(l, &mut fact_lit)).collect();
+        goals.sort_unstable();
+        goals.dedup();
+        let n_lits = fact_lit.len();
+        let mut add: Vec<Vec<u32>> = ops
+            .iter()
+            .map(|&o| {
+                let mut a: Vec<u32> =
+                    task.ops[o as usize].effs.iter().filter_map(|e| fact_of.get(&e.lit).copied()).collect();
+                a.sort_unstable();
+                a.dedup();
+                a
+            })
+            .collect();
+        let mut consumers = vec![Vec::new(); n_lits];
+        for (k, p) in pre.iter().enumerate() {
+            for &f in p {
+                consumers[f as usize].push(k as u32);
+            }
+        }
+        // The numeric facts: one per resource and set of operators that
+        // may make a condition on it hold.
+        let local: FxHashMap<u32, u32> = ops.iter().enumerate().map(|(k, &o)| (o, k as u32)).collect();
+        let mut groups: FxHashMap<(u32, Vec<u32>), u32> = FxHashMap::default();
+        let mut n_facts = n_lits;
+        let mut num_pre = Vec::with_capacity(ops.len());
+        for &o in &ops {
+            let op = &task.ops[o as usize];
+            let mut np = Vec::new();
+            for (ci, c) in op.num_conds.iter().enumerate() {
+                // At the end, after a start effect on the same fluent: left
+                // to the search's own check.
+                if c.at == End::End && op.num_effs.iter().any(|e| e.at == End::Start && e.res == c.res) {
+                    continue;
+                }
+                let mut hs: Vec<u32> =
+                    helpers(task, c).into_iter().filter_map(|h| local.get(&h).copied()).collect();
+                hs.sort_unstable();
+                hs.dedup();
+                let id = *groups.entry((c.res, hs)).or_insert_with(|| {
+                    n_facts += 1;
+                    (n_facts - 1) as u32
+                });
+                np.push((ci as u32, id));
+            }
+            num_pre.push(np);
+        }
+        for ((_, hs), id) in &groups {
+            for &h in hs {
+                add[h as usize].push(*id);
+            }
+        }
+        let no_pre = (0..ops.len() as u32).filter(|&k| pre[k as usize].is_empty()).collect();
+        let numeric = num_pre.iter().map(|n| !n.is_empty()).collect();
+        let (pre, add, consumers) = (Lists::new(pre), Lists::new(add), Lists::new(consumers));
+        Forward {
+            task,
+            no_pre,
+            numeric,
+            ops,
+            keyed,
+            unkeyed,
+            fact_lit,
+            n_facts,
+            pre,
+            num_pre,
+            add,
+            consumers,
+            goals,
+            goal_lits,
+        }
+    }
+
+    fn scratch(&self) -> Scratch {
+        Scratch {
+            stamp: 0,
+            fact_stamp: vec![0; self.n_facts],
+            op_stamp: vec![0; self.ops.len()],
+            cost: vec![FAR; self.n_facts],
+            achiever: vec![FAR; self.n_facts],
+            counter: vec![0; self.ops.len()],
+            waiting: vec![0; self.ops.len()],
+            op_cost: vec![FAR; self.ops.len()],
+            unmet: vec![Vec::new(); self.ops.len()],
+            touched: Vec::new(),
+            waiters: vec![Vec::new(); self.n_facts],
+            waited: Vec::new(),
+            marked_op: vec![0; self.ops.len()],
+            marked_fact: vec![0; self.n_facts],
+            done_stamp: vec![0; self.n_facts],
+            sum: vec![0; self.ops.len()],
+        }
+    }
+
+    fn initial(&self) -> State {
+        let task = self.task;
+        let mut s = State {
+            atoms: vec![0u64; task.init.len().div_ceil(64)].into_boxed_slice(),
+            vals: vec![UNDEFINED; task.numeric.keys.len()].into_boxed_slice(),
+        };
+        for (a, &holds) in task.init.iter().enumerate() {
+            if holds {
+                s.set(super::task::lit(a as u32, false));
+            }
+        }
+        for (r, v) in task.numeric.init.iter().enumerate() {
+            s.set_value(r as u32, *v);
+        }
+        s
+    }
+
+    fn is_goal(&self, s: &State) -> bool {
+        self.goal_lits.iter().all(|&l| s.holds(l))
+    }
+
+    fn num_holds(&self, s: &State, c: &NumCond<'_>) -> bool {
+        self.task.numeric.holds(self.task, c, s.value(c.res))
+    }
+
+    /// Whether local operator `k` may start in `s`: its `at start`
+    /// conditions hold there (the rest is checked by [`Forward::apply`]).
+    fn may_start(&self, s: &State, k: u32) -> bool {
+        let op = &self.task.ops[self.ops[k as usize] as usize];
+        op.conds.iter().all(|c| c.at == End::End || s.holds(c.lit))
+            && op.num_conds.iter().all(|c| c.at == End::End || self.num_holds(s, c))
+    }
+
+    /// The state after local operator `k` runs alone from `s`, and its
+    /// duration; `None` when it cannot run there.
+    fn apply(&self, s: &State, k: u32) -> Option<(State, f64)> {
+        let task = self.task;
+        let num = &task.numeric;
+        let op = &task.ops[self.ops[k as usize] as usize];
+        if !self.may_start(s, k) {
+            return None;
+        }
+        let duration = match &op.num_duration {
+            Some(d) => num.duration(task, d, s.value(d.res))?,
+            None => op.duration?,
+        };
+        let mut t = s.clone();
+        for at in [End::Start, End::End] {
+            if at == End::End {
+                // `over all` and `at end` conditions, after the start.
+                let end_ok =
+                    op.conds.iter().all(|c| (c.at == End::Start && c.until == End::Start) || t.holds(c.lit))
+                        && op.num_conds.iter().all(|c| c.at == End::Start || self.num_holds(&t, c));
+                if !end_ok {
+                    return None;
+                }
+            }
+            for e in op.num_effs.iter().filter(|e| e.at == at) {
+                let v = num.apply(task, e, t.value(e.res), Some(duration))?;
+                t.set_value(e.res, Some(v));
+            }
+            for e in op.effs.iter().filter(|e| e.at == at && is_neg(e.lit)) {
+                t.set(e.lit);
+            }
+            for e in op.effs.iter().filter(|e| e.at == at && !is_neg(e.lit)) {
+                t.set(e.lit);
+            }
+        }
+        Some((t, duration))
+    }
+
+    /// The local operators that may start in `s`.
+    fn successors(&self, s: &State, out: &mut Vec<u32>) {
+        out.clear();
+        for (w, &word) in s.atoms.iter().enumerate() {
+            let mut bits = word;
+            while bits != 0 {
+                let b = bits.trailing_zeros();
+                bits &= bits - 1;
+                let atom = w * 64 + b as usize;
+                out.extend(self.keyed[atom].iter().copied().filter(|&k| self.may_start(s, k)));
+            }
+        }
+        out.extend(self.unkeyed.iter().copied().filter(|&k| self.may_start(s, k)));
+    }
+
+    /// FF's estimate of `s`: the actions of a relaxed plan to the goal,
+    /// and those of them that may start in `s` (helpful); `None` when the
+    /// relaxation reaches no goal (a dead end). Facts are reached in the
+    /// order of their h_add cost (unit action costs) and each one's
+    /// achiever is its cheapest (h_add's best supporters, as Fast
+    /// Downward's FF heuristic): with the first achiever of a layered
+    /// graph instead, Depots `time-simple` automatic problem 8 took 4,867
+    /// states (215 now), hand-coded problem 1 more than 7,000 (1,605).
+    /// The work arrays are stamped per call: a call touches what it
+    /// reaches, not every operator of the task.
+    fn relaxed(&self, s: &State, x: &mut Scratch, helpful: &mut Vec<u32>) -> Option<u32> {
+        helpful.clear();
+        x.stamp = x.stamp.wrapping_add(1);
+        if x.stamp == 0 {
+            x.fact_stamp.fill(0);
+            x.op_stamp.fill(0);
+            x.done_stamp.fill(0);
+            x.stamp = 1;
+        }
+        let stamp = x.stamp;
+        for &o in &x.touched {
+            x.unmet[o as usize].clear();
+        }
+        x.touched.clear();
+        for &f in &x.waited {
+            x.waiters[f as usize].clear();
+        }
+        x.waited.clear();
+        // A fact's cost, an operator's cost (its conditions' and 1).
+        let mut heap: BinaryHeap<Reverse<(u32, u32)>> = BinaryHeap::new();
+        for (f, &l) in self.fact_lit.iter().enumerate() {
+            if s.holds(l) {
+                x.fact_stamp[f] = stamp;
+                x.cost[f] = 0;
+                heap.push(Reverse((0, f as u32)));
+            }
+        }
+        let mut goals_left = self.goals.len();
+        let mut ready: Vec<(u32, u32)> = self.no_pre.iter().map(|&k| (k, 0)).collect();
+        loop {
+            // Operators whose conditions are all reached: their numeric
+            // conditions, then their effects.
+            while let Some((k, base)) = ready.pop() {
+                let mut extra = 0u32;
+                if self.numeric[k as usize] {
+                    let op = &self.task.ops[self.ops[k as usize] as usize];
+                    let mut unmet = std::mem::take(&mut x.unmet[k as usize]);
+                    let mut waiting = Vec::new();
+                    for &(ci, f) in &self.num_pre[k as usize] {
+                        if self.num_holds(s, &op.num_conds[ci as usize]) {
+                            continue;
+                        }
+                        unmet.push(f);
+                        if x.done_stamp[f as usize] == stamp {
+                            extra += x.cost[f as usize];
+                        } else {
+                            waiting.push(f);
+                        }
+                    }
+                    unmet.sort_unstable();
+                    unmet.dedup();
+                    waiting.sort_unstable();
+                    waiting.dedup();
+                    if !unmet.is_empty() {
+                        x.touched.push(k);
+                    }
+                    x.unmet[k as usize] = unmet;
+                    if !waiting.is_empty() {
+                        x.waiting[k as usize] = waiting.len() as u32;
+                        x.sum[k as usize] = base + extra;
+                        for &f in &waiting {
+                            if x.waiters[f as usize].is_empty() {
+                                x.waited.push(f);
+                            }
+                            x.waiters[f as usize].push(k);
+                        }
+                        continue;
+                    }
+                }
+                let c = base + extra + 1;
+                x.op_cost[k as usize] = c;
+                for &f in self.add.get(k as usize) {
+                    if x.fact_stamp[f as usize] != stamp || c < x.cost[f as usize] {
+                        x.fact_stamp[f as usize] = stamp;
+                        x.cost[f as usize] = c;
+                        x.achiever[f as usize] = k;
+                        heap.push(Reverse((c, f)));
+                    }
+                }
+            }
+            let Reverse((c, f)) = heap.pop()?;
+            if x.done_stamp[f as usize] == stamp || c > x.cost[f as usize] {
+                continue;
+            }
+            x.done_stamp[f as usize] = stamp;
+            if self.goals.binary_search(&f).is_ok() {
+                goals_left -= 1;
+                if goals_left == 0 {
+                    break;
+                }
+            }
+            if (f as usize) < self.fact_lit.len() {
+                for &k in self.consumers.get(f as usize) {
+                    let k = k as usize;
+                    if x.op_stamp[k] != stamp {
+                        x.op_stamp[k] = stamp;
+                        x.counter[k] = self.pre.len_of(k);
+                        x.sum[k] = 0;
+                    }
+                    x.counter[k] -= 1;
+                    x.sum[k] += c;
+                    if x.counter[k] == 0 {
+                        ready.push((k as u32, x.sum[k]));
+                    }
+                }
+            } else {
+                let waiters = std::mem::take(&mut x.waiters[f as usize]);
+                for &k in &waiters {
+                    x.waiting[k as usize] -= 1;
+                    x.sum[k as usize] += c;
+                    if x.waiting[k as usize] == 0 {
+                        let c = x.sum[k as usize] + 1;
+                        x.op_cost[k as usize] = c;
+                        for &g in self.add.get(k as usize) {
+                            if x.fact_stamp[g as usize] != stamp || c < x.cost[g as usize] {
+                                x.fact_stamp[g as usize] = stamp;
+                                x.cost[g as usize] = c;
+                                x.achiever[g as usize] = k;
+                                heap.push(Reverse((c, g)));
+                            }
+                        }
+                    }
+                }
+                x.waiters[f as usize] = waiters;
+            }
+        }
+        let mark = !stamp;
+        let mut stack: Vec<u32> = self.goals.iter().copied().filter(|&g| x.cost[g as usize] > 0).collect();
+        let mut h = 0;
+        while let Some(f) = stack.pop() {
+            if std::mem::replace(&mut x.marked_fact[f as usize], mark) == mark {
+                continue;
+            }
+            let k = x.achiever[f as usize];
+            if std::mem::replace(&mut x.marked_op[k as usize], mark) == mark {
+                continue;
+            }
+            h += 1;
+            if x.op_cost[k as usize] == 1 {
+                helpful.push(k);
+            }
+            stack.extend(self.pre.get(k as usize).iter().copied().filter(|&p| x.cost[p as usize] > 0));
+            if self.numeric[k as usize] {
+                stack.extend(x.unmet[k as usize].iter().copied());
+            }
+        }
+        Some(h)
+    }
+}
+
+/// The operators that may make numeric condition `c` hold where it does
+/// not: those with an effect on its fluent that goes the way the
+/// condition wants (an increase for `(>= (fuel a) x)`), that assigns a
+/// value where it holds, or that the analysis cannot place (an effect
+/// neither additive nor an assignment of a constant, or one it cannot
+/// evaluate). A condition that holds neither far above nor far below
+/// (an equality) takes every writer.
+fn helpers(task: &Task<'_>, c: &NumCond<'_>) -> Vec<u32> {
+    const FAR_VALUE: f64 = 1e12;
+    const PROBE: f64 = 1000.0;
+    let num = &task.numeric;
+    let up = num.holds(task, c, Some(FAR_VALUE));
+    let down = num.holds(task, c, Some(-FAR_VALUE));
+    let monotone = up != down;
+    let mut out = Vec::new();
+    let Some(writers) = num.writers.get(c.res as usize) else { return out };
+    for &w in writers {
+        let helps = task.ops[w as usize].num_effs.iter().filter(|e| e.res == c.res).any(|e| {
+            if !monotone {
+                return true;
+            }
+            let a = num.apply(task, e, Some(0.0), Some(1.0));
+            let b = num.apply(task, e, Some(PROBE), Some(1.0));
+            match (a, b) {
+                (Some(a), Some(b)) if ((b - PROBE) - a).abs() <= 1e-9 * (1.0 + a.abs()) => {
+                    (a > 0.0 && up) || (a < 0.0 && down)
+                }
+                (Some(a), Some(b)) if (a - b).abs() <= 1e-9 * (1.0 + a.abs()) => num.holds(task, c, Some(a)),
+                _ => true,
+            }
+        });
+        if helps {
+            out.push(w);
+        }
+    }
+    out
+}
+
+/// A state the search met: where it came from, and its estimate.
+struct Node {
+    parent: u32,
+    /// The local operator that led here (`u32::MAX` for the initial state)
+    /// and its duration.
+    op: u32,
+    duration: f64,
+}
+
+/// The lazy greedy best-first search: a state is made and estimated when
+/// it is taken from an open list, its successors enter with its estimate.
+/// Two open lists (every successor; the helpful ones), taken in turn, the
+/// helpful one `BOOST` more times after each better estimate.
+pub fn search(
+    task: &Task<'_>,
+    limits: &PlannerLimits,
+    cancel: &dyn Fn() -> bool,
+    progress: &mut dyn FnMut(&Progress),
+    stats: &mut Stats,
+) -> Found {
+    let started = Instant::now();
+    let fw = Forward::new(task);
+    let mut x = fw.scratch();
+    let mut states: Vec<State> = Vec::new();
+    let mut nodes: Vec<Node> = Vec::new();
+    // States by hash; `same` chains the states of one hash.
+    let mut by_hash: FxHashMap<u64, u32> = FxHashMap::default();
+    let mut same: Vec<u32> = Vec::new();
+    let hash_of = |s: &State| {
+        use std::hash::BuildHasher;
+        rustc_hash::FxBuildHasher.hash_one(s)
+    };
+    // Entries: estimate of the parent, then first in first out.
+    type Entry = Reverse<(u32, u64, u32, u32)>;
+    let mut open: [BinaryHeap<Entry>; 2] = [BinaryHeap::new(), BinaryHeap::new()];
+    let mut priority = [0i64; 2];
+    let mut seq = 0u64;
+    open[0].push(Reverse((0, 0, u32::MAX, u32::MAX)));
+    let mut best_h = u32::MAX;
+    let mut bytes = 0usize;
+    let mut last_report = Instant::now();
+    let mut expanded = 0u64;
+    let mut helpful = Vec::new();
+    let mut succ = Vec::new();
+    let mut is_helpful = vec![false; fw.ops.len()];
+    let out_of_time = || limits.time.is_some_and(|t| limits.time_spent_since(started) >= t);
+    let mut last_in_use = limits.memory_in_use.map_or(0, |f| f());
+    let end = loop {
+        // The list whose turn it is: the lower priority, a non-empty one.
+        let lane = match (open[0].is_empty(), open[1].is_empty()) {
+            (true, true) => break Found::Exhausted,
+            (false, true) => 0,
+            (true, false) => 1,
+            (false, false) => usize::from(priority[1] < priority[0]),
+        };
+        priority[lane] += 1;
+        let Some(Reverse((_, _, parent, k))) = open[lane].pop() else { continue };
+        let made = if parent == u32::MAX {
+            Some((fw.initial(), 0.0))
+        } else {
+            fw.apply(&states[parent as usize], k)
+        };
+        let Some((state, duration)) = made else { continue };
+        let hash = hash_of(&state);
+        let mut seen = by_hash.get(&hash).copied();
+        let mut dup = false;
+        while let Some(i) = seen {
+            if states[i as usize] == state {
+                dup = true;
+                break;
+            }
+            seen = (same[i as usize] != u32::MAX).then_some(same[i as usize]);
+        }
+        if dup {
+            continue;
+        }
+        expanded += 1;
+        stats.expanded += 1;
+        if cancel() {
+            break Found::Limit(LimitKind::Cancelled);
+        }
+        if out_of_time() {
+            break Found::Limit(LimitKind::Time);
+        }
+        if limits.nodes.is_some_and(|n| stats.expanded > n) {
+            break Found::Limit(LimitKind::Nodes);
+        }
+        if expanded.is_multiple_of(MEMORY_EVERY) {
+            let over = match (limits.memory, limits.memory_in_use) {
+                (Some(m), Some(in_use)) => {
+                    let now = in_use();
+                    let next = now.saturating_add(now.saturating_sub(last_in_use));
+                    last_in_use = now;
+                    next > m
+                }
+                (Some(m), None) => bytes > m,
+                (None, _) => false,
+            };
+            if over {
+                break Found::Limit(LimitKind::Memory);
+            }
+        }
+        if last_report.elapsed().as_millis() >= 100 {
+            last_report = Instant::now();
+            progress(&Progress {
+                expanded: stats.expanded,
+                open: open[0].len() + open[1].len(),
+                best_f: f64::from(best_h),
+                elapsed: limits.time_spent_since(started),
+                makespan: None,
+                improved: false,
+            });
+        }
+        let id = states.len() as u32;
+        bytes += state.bytes() + 40;
+        same.push(by_hash.insert(hash, id).unwrap_or(u32::MAX));
+        nodes.push(Node { parent, op: k, duration });
+        states.push(state);
+        let s = &states[id as usize];
+        if fw.is_goal(s) {
+            break Found::Plan(sequence(&fw, &nodes, id));
+        }
+        let Some(h) = fw.relaxed(s, &mut x, &mut helpful) else { continue };
+        if h < best_h {
+            best_h = h;
+            // Progress: the helpful list gets the next turns.
+            priority[1] -= BOOST;
+        }
+        fw.successors(s, &mut succ);
+        for &k in &helpful {
+            is_helpful[k as usize] = true;
+        }
+        for &k in &succ {
+            seq += 1;
+            open[0].push(Reverse((h, seq, id, k)));
+            if is_helpful[k as usize] {
+                open[1].push(Reverse((h, seq, id, k)));
+            }
+        }
+        for &k in &helpful {
+            is_helpful[k as usize] = false;
+        }
+        bytes += 24 * succ.len();
+        stats.generated += succ.len() as u64;
+        stats.peak_open = stats.peak_open.max(open[0].len() + open[1].len());
+    };
+    stats.open = open[0].len() + open[1].len();
+    end
+}
+
+/// Turns taken by the helpful list after each better estimate.
+const BOOST: i64 = 1000;
+
+/// The sequence that leads to node `last`, with sequential times.
+fn sequence(fw: &Forward<'_, '_>, nodes: &[Node], last: u32) -> Vec<Step> {
+    let mut ops = Vec::new();
+    let mut i = last;
+    while nodes[i as usize].op != u32::MAX {
+        let n = &nodes[i as usize];
+        ops.push((fw.ops[n.op as usize], n.duration));
+        i = n.parent;
+    }
+    ops.reverse();
+    let mut t = 0.0;
+    ops.into_iter()
+        .map(|(op, d)| {
+            let step = Step { op, start: t, end: t + d };
+            t += d + EPS;
+            step
+        })
+        .collect()
+}
+
+/// The orderings that keep the happenings touching each numeric fluent
+/// in the sequence's order: a happening after the last writer before it,
+/// a writer after the readers since the last writer. Between happenings
+/// of different steps (a step's start is before its end anyway).
+fn numeric_orders(task: &Task<'_>, steps: &[Step]) -> Vec<SeedOrder> {
+    let mut out = Vec::new();
+    for res in 0..task.numeric.keys.len() as u32 {
+        let mut last_writer: Option<(usize, End)> = None;
+        let mut readers: Vec<(usize, End)> = Vec::new();
+        for (i, st) in steps.iter().enumerate() {
+            let op = &task.ops[st.op as usize];
+            for at in [End::Start, End::End] {
+                let reads = op.num_conds.iter().any(|c| c.res == res && c.at == at)
+                    || (at == End::Start && op.num_duration.as_ref().is_some_and(|d| d.res == res));
+                let writes = op.num_effs.iter().any(|e| e.res == res && e.at == at);
+                if !reads && !writes {
+                    continue;
+                }
+                let here = (i, at);
+                if let Some(w) = last_writer.filter(|w| w.0 != i) {
+                    out.push(SeedOrder { from: w, to: here });
+                }
+                if writes {
+                    out.extend(readers.iter().filter(|r| r.0 != i).map(|&r| SeedOrder { from: r, to: here }));
+                    readers.clear();
+                    last_writer = Some(here);
+                } else {
+                    readers.push(here);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The partial-order search's effort to finish the plan of a sequence
+/// (the flaws its start plan leaves: interfering happenings to order,
+/// links the old times did not decide): expansions at most.
+const FINISH_NODES: u64 = 20_000;
+
+impl<'db> Prepared<'db> {
+    /// The forward phase: the forward search within `limits`, then its
+    /// sequence made a partial-order plan: the start plan of the
+    /// partial-order search ([`Search::seeded`], with the sequential times
+    /// as the old schedule, then forgotten: the plan is scheduled at its
+    /// earliest), which solves what is left (at most [`FINISH_NODES`]
+    /// expansions), then without its redundant steps. `NoPlan` when the
+    /// forward search was exhausted, or its sequence could not be made a
+    /// plan: not a verdict on the problem, the caller goes on.
+    pub(super) fn forward(
+        &self,
+        db: &'db dyn Db,
+        config: &Config,
+        limits: &PlannerLimits,
+        cancel: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Outcome<'db> {
+        let started = Instant::now();
+        let task = &self.task;
+        let mut stats = Stats { operators: task.ops.len(), methods: task.methods.len(), ..Stats::default() };
+        let none = |status, stats| Outcome { status, plan: None, stats, lints: Vec::new() };
+        let steps = match search(task, limits, cancel, progress, &mut stats) {
+            Found::Plan(steps) => steps,
+            Found::Exhausted => {
+                stats.elapsed = started.elapsed();
+                return none(Status::NoPlan, stats);
+            }
+            Found::Limit(kind) => {
+                stats.elapsed = started.elapsed();
+                return none(Status::Limit(kind), stats);
+            }
+        };
+        let seed = Seed {
+            steps: steps
+                .iter()
+                .map(|s| SeedStep {
+                    op: s.op,
+                    parent: None,
+                    method: None,
+                    start: s.start,
+                    end: s.end,
+                    fixed: false,
+                    done: false,
+                })
+                .collect(),
+            orders: numeric_orders(task, &steps),
+            now: None,
+        };
+        let search = Search::new(task, &self.h, config);
+        let roots: Vec<_> = match search.seeded(&seed) {
+            Ok(v) => v
+                .into_iter()
+                .map(|(mut p, _)| {
+                    // The earliest schedule, not the sequential one.
+                    p.old_times = Default::default();
+                    p
+                })
+                .collect(),
+            Err(_) => Vec::new(),
+        };
+        let spent = limits.time_spent_since(started);
+        let nodes = Some(stats.expanded + FINISH_NODES);
+        let finish = PlannerLimits {
+            time_spent: spent,
+            nodes: limits.nodes.map_or(nodes, |n| nodes.map(|m| m.min(n))),
+            first: true,
+            better_than: None,
+            exits_after: false,
+            ..limits.clone()
+        };
+        let mut best = None;
+        let end = search.run(roots, &finish, cancel, &mut |_| {}, &mut stats, &mut best);
+        let End2::Solved(p) = end else {
+            stats.elapsed = started.elapsed();
+            return none(Status::NoPlan, stats);
+        };
+        let removing = Instant::now();
+        let left = limits.time.map(|t| t.saturating_sub(limits.time_spent_since(started)));
+        let stop = || cancel() || left.is_some_and(|l| removing.elapsed() >= l);
+        let (p, removed) = search.without_redundant_steps(*p, &stop);
+        stats.redundant_removed = removed.steps;
+        stats.redundant_time = removing.elapsed();
+        stats.best = Some(Quality { makespan: p.makespan(), cost: stats.best.map_or(0.0, |q| q.cost) });
+        stats.elapsed = started.elapsed();
+        stats.first_found = Some(stats.elapsed);
+        stats.plans_found = 1;
+        let plan = output::solved(db, task, &p);
+        Outcome { status: Status::Solved, plan: Some(plan), stats, lints: Vec::new() }
+    }
+}
+
+impl<'db> Prepared<'db> {
+    /// The first plan of a problem without a hierarchy: the partial-order
+    /// search alone when the forward phase does not apply
+    /// ([`applies`]) or the configuration says `noforward`; with
+    /// `forward`, the forward phase first; by default the partial-order
+    /// search for [`FORWARD_AFTER`] of the time left (or until the memory
+    /// limit: its open list is freed), then the forward phase. Without a
+    /// time limit, the partial-order search alone unless `forward`. When the forward phase finds no sequence, the partial-order
+    /// search runs for what is left. The statistics add up the phases'.
+    pub(super) fn first_plan(
+        &self,
+        db: &'db dyn Db,
+        config: &Config,
+        limits: &PlannerLimits,
+        cancel: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Outcome<'db> {
+        if config.noforward || !applies(&self.task) {
+            return self.search(db, config, limits, None, cancel, progress);
+        }
+        let started = Instant::now();
+        let mut before = Stats::default();
+        // Adds the statistics of the phases before to an outcome's.
+        let total = |mut o: Outcome<'db>, before: &Stats| {
+            let b = &mut o.stats;
+            b.expanded += before.expanded;
+            b.generated += before.generated;
+            b.peak_open = b.peak_open.max(before.peak_open);
+            b.largest = b.largest.max(before.largest);
+            b.first_found = b.first_found.map(|f| f + before.elapsed);
+            b.elapsed += before.elapsed;
+            o
+        };
+        // A phase's limits: the run's, less the expansions before, and
+        // the time up to `until` (`None`: the run's limit).
+        let phase = |until: Option<std::time::Duration>, before: &Stats, exits_after: bool| {
+            let spent = limits.time_spent_since(started);
+            PlannerLimits {
+                time_spent: spent,
+                time: match (limits.time, until) {
+                    (Some(t), Some(u)) => Some(u.min(t)),
+                    (t, _) => t,
+                },
+                nodes: limits.nodes.map(|n| n.saturating_sub(before.expanded)),
+                exits_after,
+                ..limits.clone()
+            }
+        };
+        if !config.forward {
+            let share = limits.time.map(|t| {
+                let spent = limits.time_spent_since(started);
+                spent + t.saturating_sub(spent).mul_f64(FORWARD_AFTER)
+            });
+            // Its open list is freed: the forward phase comes next.
+            let first = self.search(db, config, &phase(share, &before, false), None, cancel, progress);
+            // At its share of the time, or at the memory limit: its open
+            // list, freed, was what filled the memory.
+            let at_share = match first.status {
+                Status::Limit(LimitKind::Time) => {
+                    limits.time.is_none_or(|t| limits.time_spent_since(started) < t)
+                }
+                Status::Limit(LimitKind::Memory) => true,
+                _ => false,
+            };
+            if !at_share {
+                return first;
+            }
+            before = first.stats;
+        }
+        let done = before.expanded;
+        let mut counted = |p: &Progress| progress(&Progress { expanded: done + p.expanded, ..*p });
+        let fwd = self.forward(db, config, &phase(None, &before, false), cancel, &mut counted);
+        if fwd.status != Status::NoPlan {
+            return total(fwd, &before);
+        }
+        let fwd_stats = fwd.stats;
+        before.expanded += fwd_stats.expanded;
+        before.generated += fwd_stats.generated;
+        before.peak_open = before.peak_open.max(fwd_stats.peak_open);
+        before.elapsed += fwd_stats.elapsed;
+        let done = before.expanded;
+        let mut counted = |p: &Progress| progress(&Progress { expanded: done + p.expanded, ..*p });
+        let rest =
+            self.search(db, config, &phase(None, &before, limits.exits_after), None, cancel, &mut counted);
+        total(rest, &before)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::planner::prepare;
+
+    /// The forward search's end on a fixture of `tests/planner`, and the
+    /// names of the operators of the sequence it found.
+    fn forward_on(file: &str) -> (Found, Vec<String>) {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/planner").join(file);
+        let text = std::fs::read_to_string(&path).expect("the fixture");
+        let mut host = crate::AnalysisHost::new();
+        let pf = host.set_file_text(file, text);
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::host::first_problem(db, pf).expect("a problem");
+                let config = Config::default();
+                let limits = PlannerLimits { nodes: Some(10_000), ..PlannerLimits::default() };
+                let prepared = prepare(db, unit, &config, &limits).ok().expect("prepared");
+                assert!(applies(&prepared.task));
+                let mut stats = Stats::default();
+                let found = search(&prepared.task, &limits, &|| false, &mut |_| {}, &mut stats);
+                let names = match &found {
+                    Found::Plan(steps) => steps.iter().map(|s| prepared.task.show_op(s.op)).collect(),
+                    _ => Vec::new(),
+                };
+                (found, names)
+            })
+            .expect("not cancelled")
+    }
+
+    /// `fix` needs the light on over all of it, and `light` turns it off at
+    /// its end: no sequence reaches the goal, and the search says so.
+    #[test]
+    fn a_plan_that_needs_overlapping_actions_has_no_sequence() {
+        assert_eq!(forward_on("light-while-fixing.pddl").0, Found::Exhausted);
+    }
+
+    /// The numeric conditions are checked in the state and the refuels
+    /// come before the flights that need them, in sequence: times one
+    /// after another, ε apart.
+    #[test]
+    fn a_sequence_refuels_before_the_flights_that_need_it() {
+        let (found, names) = forward_on("passengers-need-the-forward-phase.pddl");
+        let Found::Plan(steps) = found else { panic!("a sequence: {found:?}") };
+        assert!(names.iter().any(|n| n.starts_with("(refuel")), "{names:?}");
+        for w in steps.windows(2) {
+            assert!((w[1].start - (w[0].end + EPS)).abs() < 1e-9, "{w:?}");
+        }
+    }
+}
