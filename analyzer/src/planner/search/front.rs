@@ -294,6 +294,154 @@ impl Search<'_, '_> {
     }
 }
 
+/// The plans grown from their front that the search has put in its open
+/// lists, by their key ([`Search::front_key`]), each with the least
+/// makespan of an earliest schedule met with it.
+pub(super) type Seen = FxHashMap<Box<[u32]>, f64>;
+
+impl Search<'_, '_> {
+    /// What a plan grown from its front has left to do, as a key: the state
+    /// after its committed steps (the atoms whose value differs from the
+    /// initial one), the goal's conditions not linked yet, and what is left
+    /// of its task network: the elementary steps not committed and the
+    /// unrefined abstract steps, each with its operator or task and its
+    /// conditions not linked yet, in a canonical order, and which of them
+    /// must end before which starts. Two plans with the same key have the
+    /// same completions: what is left runs from the same state, under the
+    /// same orderings (every step not committed comes after the committed
+    /// ones; a method precondition linked to a committed step no step left
+    /// can threaten, as it can be ordered after it), and the methods that
+    /// refine an abstract step put its subtasks where it stands. `None`
+    /// when the plan has threats (not settled: no key).
+    ///
+    /// The order of the steps is by operator, conditions left, and those of
+    /// the steps before and after it; steps alike on all of these are taken
+    /// in the plan's order, so two plans whose networks are the same up to
+    /// the names of their steps may still have different keys (a duplicate
+    /// missed, never a plan lost).
+    pub(super) fn front_key(&self, p: &Plan) -> Option<Box<[u32]>> {
+        if !p.threats.is_empty() {
+            return None;
+        }
+        let task = self.task;
+        let view = self.view(p);
+        let mut key: Vec<u32> = view
+            .prefix
+            .last
+            .iter()
+            .filter(|&(&a, &(_, _, v))| task.holds_initially(lit(a, false)) != v)
+            .map(|(&a, &(_, _, v))| (a << 1) | v as u32)
+            .collect();
+        key.sort_unstable();
+        key.push(u32::MAX);
+        let mut goal_open = 0u32;
+        let mut opens: FxHashMap<u32, u32> = FxHashMap::default();
+        for o in p.open.iter() {
+            if o.step == GOAL {
+                goal_open += 1;
+            } else {
+                *opens.entry(o.step).or_insert(0) += 1;
+            }
+        }
+        key.push(goal_open);
+        let mut goal_lits: Vec<u32> = p.open.iter().filter(|o| o.step == GOAL).map(|o| o.lit).collect();
+        goal_lits.sort_unstable();
+        key.extend(goal_lits);
+        let left: Vec<u32> = view.rest.iter().chain(p.abstracts.iter()).copied().collect();
+        let n = left.len();
+        // Each step's operator (or task) and its conditions left.
+        let label = |s: u32| -> (u32, u32) {
+            (p.op_of(s).unwrap_or(u32::MAX), opens.get(&s).copied().unwrap_or(0))
+        };
+        let labels: Vec<(u32, u32)> = left.iter().map(|&s| label(s)).collect();
+        let mut before = vec![false; n * n];
+        for i in 0..n {
+            let end = p.steps[left[i] as usize].end;
+            for j in 0..n {
+                if i != j && p.stn.before(end, p.steps[left[j] as usize].start) {
+                    before[i * n + j] = true;
+                }
+            }
+        }
+        // The labels of the steps before and after each step, mixed into
+        // its place in the order (any mix: the key holds the network).
+        let mix = |h: u64, x: (u32, u32)| {
+            let v = (u64::from(x.0) << 32) | u64::from(x.1);
+            (h ^ v.wrapping_mul(0x9e37_79b9_7f4a_7c15)).rotate_left(5).wrapping_add(v)
+        };
+        let around: Vec<(u64, u64)> = (0..n)
+            .map(|i| {
+                let (mut pre, mut post) = (Vec::new(), Vec::new());
+                for j in 0..n {
+                    if before[j * n + i] {
+                        pre.push(labels[j]);
+                    }
+                    if before[i * n + j] {
+                        post.push(labels[j]);
+                    }
+                }
+                pre.sort_unstable();
+                post.sort_unstable();
+                (pre.into_iter().fold(pre_seed(), mix), post.into_iter().fold(pre_seed() ^ 1, mix))
+            })
+            .collect();
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by_key(|&i| (labels[i], around[i], i));
+        key.push(n as u32);
+        for &i in &order {
+            key.push(labels[i].0);
+            key.push(labels[i].1);
+        }
+        let mut word = 0u32;
+        let mut bits = 0;
+        for &i in &order {
+            for &j in &order {
+                word = (word << 1) | before[i * n + j] as u32;
+                bits += 1;
+                if bits == 32 {
+                    key.push(word);
+                    (word, bits) = (0, 0);
+                }
+            }
+        }
+        if bits > 0 {
+            key.push(word);
+        }
+        Some(key.into_boxed_slice())
+    }
+
+    /// Whether a plan grown from its front is already in the open lists,
+    /// or was, with an earliest schedule no longer than `span`: its
+    /// completions are that plan's, and none is shorter.
+    pub(super) fn front_known(&self, p: &Plan, span: f64) -> bool {
+        let Some(key) = self.front_key(p) else { return false };
+        self.front_seen.borrow().get(&key).is_some_and(|&s| s <= span)
+    }
+
+    /// Records a plan grown from its front that enters the open lists;
+    /// `false` (not recorded) when [`Search::front_known`].
+    pub(super) fn front_record(&self, p: &Plan, span: f64) -> bool {
+        let Some(key) = self.front_key(p) else { return true };
+        let mut seen = self.front_seen.borrow_mut();
+        match seen.get_mut(&key) {
+            Some(s) if *s <= span => false,
+            Some(s) => {
+                *s = span;
+                true
+            }
+            None => {
+                seen.insert(key, span);
+                true
+            }
+        }
+    }
+}
+
+/// The start of the mix of the labels around a step ([`Search::front_key`]).
+fn pre_seed() -> u64 {
+    0x243f_6a88_85a3_08d3
+}
+
 /// The relaxed composition of the task (Höller et al., 2018), the model of
 /// pandaPI's RC heuristics: deletions ignored, and each task a fact, made
 /// true by any of its methods once the method's preconditions and the
