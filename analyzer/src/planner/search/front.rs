@@ -325,14 +325,7 @@ impl Search<'_, '_> {
         }
         let task = self.task;
         let view = self.view(p);
-        let mut key: Vec<u32> = view
-            .prefix
-            .last
-            .iter()
-            .filter(|&(&a, &(_, _, v))| task.holds_initially(lit(a, false)) != v)
-            .map(|(&a, &(_, _, v))| (a << 1) | v as u32)
-            .collect();
-        key.sort_unstable();
+        let mut key = state_key(task, &view.prefix);
         key.push(u32::MAX);
         let mut goal_open = 0u32;
         let mut opens: FxHashMap<u32, u32> = FxHashMap::default();
@@ -458,6 +451,11 @@ pub(super) struct Composition {
     own: Vec<f64>,
     /// Per fact, the actions that need it (once per occurrence).
     users: Vec<Vec<u32>>,
+    /// The costs from the last states evaluated, the most recent last.
+    cache: std::cell::RefCell<Vec<Relaxed>>,
+    /// The relaxed plan's marks, all `false` between evaluations.
+    marked: std::cell::RefCell<Vec<bool>>,
+    seen: std::cell::RefCell<Vec<bool>>,
 }
 
 impl Composition {
@@ -490,7 +488,7 @@ impl Composition {
                 users[f as usize].push(a as u32);
             }
         }
-        Composition { lits, pre, eff, own, users }
+        Composition { lits, pre, eff, own, users, cache: Default::default(), marked: Default::default(), seen: Default::default() }
     }
 }
 
@@ -507,55 +505,15 @@ impl Search<'_, '_> {
     /// progression planner's heuristic reads the state it reached: the
     /// estimates from the initial state told a truck's `get-to` apart by
     /// where the truck starts, not where it is.
+    ///
+    /// The composition's costs from a state are kept for the last
+    /// [`RELAXED_STATES`] states ([`Relaxed`]), and computed only as far as
+    /// the goals asked so far: the refinements of a plan's abstract step
+    /// leave its state as it was, and the costs from it serve them all.
     pub(super) fn front_estimate(&self, p: &Plan) -> (f64, f64) {
         let Some(comp) = &self.composition else { return (0.0, 0.0) };
         let task = self.task;
         let view = self.view(p);
-        let facts = comp.users.len();
-        let mut cost = vec![f64::INFINITY; facts];
-        let mut best = vec![u32::MAX; facts];
-        let mut settled = vec![false; facts];
-        let mut left: Vec<u32> = comp.pre.iter().map(|p| p.len() as u32).collect();
-        let mut sum = vec![0.0f64; comp.pre.len()];
-        let mut heap: std::collections::BinaryHeap<std::cmp::Reverse<(Cost, u32)>> = Default::default();
-        for a in 0..(comp.lits / 2) as u32 {
-            let l = lit(a, false);
-            let l = if view.prefix.holds(task, l) { l } else { l ^ 1 };
-            cost[l as usize] = 0.0;
-            heap.push(std::cmp::Reverse((Cost(0.0), l)));
-        }
-        let reach =
-            |a: usize,
-             c: f64,
-             cost: &mut Vec<f64>,
-             best: &mut Vec<u32>,
-             heap: &mut std::collections::BinaryHeap<std::cmp::Reverse<(Cost, u32)>>| {
-                let c = c + comp.own[a];
-                for &e in &comp.eff[a] {
-                    if c < cost[e as usize] {
-                        cost[e as usize] = c;
-                        best[e as usize] = a as u32;
-                        heap.push(std::cmp::Reverse((Cost(c), e)));
-                    }
-                }
-            };
-        for (a, _) in left.iter().enumerate().filter(|&(_, &n)| n == 0) {
-            reach(a, 0.0, &mut cost, &mut best, &mut heap);
-        }
-        while let Some(std::cmp::Reverse((Cost(c), f))) = heap.pop() {
-            if settled[f as usize] || c > cost[f as usize] {
-                continue;
-            }
-            settled[f as usize] = true;
-            for &a in &comp.users[f as usize] {
-                let a = a as usize;
-                left[a] -= 1;
-                sum[a] += c;
-                if left[a] == 0 {
-                    reach(a, sum[a], &mut cost, &mut best, &mut heap);
-                }
-            }
-        }
         // The goals: the facts of what is left, and the goal's literals.
         let mut goals: Vec<u32> = view
             .rest
@@ -566,6 +524,22 @@ impl Search<'_, '_> {
             .collect();
         goals.extend(p.open.iter().filter(|o| o.step == GOAL).map(|o| o.lit));
         goals.sort_unstable();
+        let state = state_key(task, &view.prefix);
+        let mut cache = comp.cache.borrow_mut();
+        let mut r = match cache.iter().position(|r| r.state == state) {
+            Some(i) => cache.remove(i),
+            None => {
+                let mut r = if cache.len() < RELAXED_STATES {
+                    Relaxed::default()
+                } else {
+                    cache.remove(0)
+                };
+                r.start(comp, task, &view.prefix, state);
+                r
+            }
+        };
+        r.reach(comp, &goals);
+        let (cost, best) = (&r.cost, &r.best);
         let (mut h, mut effort) = (0.0, 0.0);
         for w in goals.windows(2) {
             if w[0] == w[1] {
@@ -573,28 +547,149 @@ impl Search<'_, '_> {
             }
         }
         goals.dedup();
-        let mut marked = vec![false; comp.pre.len()];
-        let mut seen = vec![false; facts];
+        let mut marked = comp.marked.borrow_mut();
+        let mut seen = comp.seen.borrow_mut();
+        marked.resize(comp.pre.len(), false);
+        seen.resize(comp.users.len(), false);
+        let (mut marks, mut sights) = (Vec::new(), Vec::new());
         let mut stack = goals;
+        let mut dead = false;
         while let Some(f) = stack.pop() {
             let f = f as usize;
             if seen[f] || cost[f] == 0.0 && best[f] == u32::MAX {
                 continue;
             }
             seen[f] = true;
+            sights.push(f);
             let a = best[f];
             if a == u32::MAX {
-                return (f64::INFINITY, f64::INFINITY);
+                dead = true;
+                break;
             }
             let a = a as usize;
             if !marked[a] {
                 marked[a] = true;
+                marks.push(a);
                 h += comp.own[a];
                 effort += 1.0;
                 stack.extend_from_slice(&comp.pre[a]);
             }
         }
+        for f in sights {
+            seen[f] = false;
+        }
+        for a in marks {
+            marked[a] = false;
+        }
+        cache.push(r);
+        if dead {
+            return (f64::INFINITY, f64::INFINITY);
+        }
         (h, effort + p.threats.len() as f64)
+    }
+}
+
+/// The states whose relaxed composition's costs the search keeps
+/// ([`Search::front_estimate`]).
+const RELAXED_STATES: usize = 8;
+
+/// The state after a prefix: the atoms whose value differs from the
+/// initial one (`atom × 2 + value`), in order.
+fn state_key(task: &Task<'_>, prefix: &Prefix) -> Vec<u32> {
+    let mut key: Vec<u32> = prefix
+        .last
+        .iter()
+        .filter(|&(&a, &(_, _, v))| task.holds_initially(lit(a, false)) != v)
+        .map(|(&a, &(_, _, v))| (a << 1) | v as u32)
+        .collect();
+    key.sort_unstable();
+    key
+}
+
+/// The relaxed composition evaluated from one state (h_add's costs, each
+/// fact's cheapest supporter), as far as the goals asked so far need: a
+/// Dijkstra search over the facts that stops once they are all settled
+/// and goes on from there for further goals. The costs of the facts it
+/// settled are those of a search run to its end.
+#[derive(Default)]
+struct Relaxed {
+    state: Vec<u32>,
+    cost: Vec<f64>,
+    best: Vec<u32>,
+    settled: Vec<bool>,
+    /// Per action, the preconditions not settled yet, and the sum of the
+    /// costs of those settled.
+    left: Vec<u32>,
+    sum: Vec<f64>,
+    heap: std::collections::BinaryHeap<std::cmp::Reverse<(Cost, u32)>>,
+}
+
+impl Relaxed {
+    /// Starts from `state` (the state after `prefix`), reusing the memory.
+    fn start(&mut self, comp: &Composition, task: &Task<'_>, prefix: &Prefix, state: Vec<u32>) {
+        let facts = comp.users.len();
+        self.state = state;
+        self.cost.clear();
+        self.cost.resize(facts, f64::INFINITY);
+        self.best.clear();
+        self.best.resize(facts, u32::MAX);
+        self.settled.clear();
+        self.settled.resize(facts, false);
+        self.left.clear();
+        self.left.extend(comp.pre.iter().map(|p| p.len() as u32));
+        self.sum.clear();
+        self.sum.resize(comp.pre.len(), 0.0);
+        let mut heap = std::mem::take(&mut self.heap).into_vec();
+        heap.clear();
+        for a in 0..(comp.lits / 2) as u32 {
+            let l = lit(a, false);
+            let l = if prefix.holds(task, l) { l } else { l ^ 1 };
+            self.cost[l as usize] = 0.0;
+            heap.push(std::cmp::Reverse((Cost(0.0), l)));
+        }
+        self.heap = heap.into();
+        for a in 0..comp.pre.len() {
+            if self.left[a] == 0 {
+                self.fire(comp, a, 0.0);
+            }
+        }
+    }
+
+    /// Action `a` reached at cost `c` (its preconditions'): its effects.
+    fn fire(&mut self, comp: &Composition, a: usize, c: f64) {
+        let c = c + comp.own[a];
+        for &e in &comp.eff[a] {
+            if c < self.cost[e as usize] {
+                self.cost[e as usize] = c;
+                self.best[e as usize] = a as u32;
+                self.heap.push(std::cmp::Reverse((Cost(c), e)));
+            }
+        }
+    }
+
+    /// Goes on until every fact of `goals` is settled, or none is left to
+    /// settle (those not settled then cannot be reached).
+    fn reach(&mut self, comp: &Composition, goals: &[u32]) {
+        let mut waiting = goals.iter().filter(|&&g| !self.settled[g as usize]).count();
+        while waiting > 0 {
+            let Some(std::cmp::Reverse((Cost(c), f))) = self.heap.pop() else { return };
+            if self.settled[f as usize] || c > self.cost[f as usize] {
+                continue;
+            }
+            self.settled[f as usize] = true;
+            for &a in &comp.users[f as usize] {
+                let a = a as usize;
+                self.left[a] -= 1;
+                self.sum[a] += c;
+                if self.left[a] == 0 {
+                    let s = self.sum[a];
+                    self.fire(comp, a, s);
+                }
+            }
+            // A goal several steps share is counted as often (`goals` is
+            // sorted).
+            waiting -= goals.partition_point(|&g| g <= f) - goals.partition_point(|&g| g < f);
+        }
     }
 }
 
