@@ -145,27 +145,23 @@ impl Search<'_, '_> {
             }
         }
         let unrefined: Vec<u32> = p.abstracts.iter().copied().collect();
-        let waits_for_step =
-            |t: Tp, me: u32| rest.iter().any(|&z| z != me && p.stn.before(p.steps[z as usize].start, t));
-        let waits_for_task =
-            |t: Tp, me: u32| unrefined.iter().any(|&a| a != me && p.stn.before(p.steps[a as usize].end, t));
-        let steps = rest
-            .iter()
-            .copied()
-            .filter(|&x| {
-                let t = p.steps[x as usize].start;
-                !waits_for_step(t, x) && !waits_for_task(t, x)
-            })
-            .collect();
-        let abstracts = unrefined
-            .iter()
-            .enumerate()
-            .filter(|&(_, &a)| {
-                let t = p.steps[a as usize].start;
-                !waits_for_step(t, a) && !waits_for_task(t, a)
-            })
-            .map(|(i, _)| i)
-            .collect();
+        // The points of what is left: a step's start, an abstract step's
+        // end; a step waits when one of them is before its start.
+        let mut left = vec![0u64; p.stn.len().div_ceil(64)];
+        let mut mark = |t: Tp| {
+            if let Some(w) = left.get_mut(t as usize / 64) {
+                *w |= 1 << (t % 64);
+            }
+        };
+        rest.iter().for_each(|&z| mark(p.steps[z as usize].start));
+        unrefined.iter().for_each(|&a| mark(p.steps[a as usize].end));
+        let mut row = Vec::new();
+        let mut free = |x: u32| {
+            p.stn.preceding(p.steps[x as usize].start, &mut row);
+            row.iter().zip(&left).all(|(r, l)| r & l == 0)
+        };
+        let steps = rest.iter().copied().filter(|&x| free(x)).collect();
+        let abstracts = unrefined.iter().enumerate().filter(|&(_, &a)| free(a)).map(|(i, _)| i).collect();
         View { prefix: Prefix { last }, rest, steps, abstracts }
     }
 
@@ -348,10 +344,12 @@ impl Search<'_, '_> {
         };
         let labels: Vec<(u32, u32)> = left.iter().map(|&s| label(s)).collect();
         let mut before = vec![false; n * n];
-        for i in 0..n {
-            let end = p.steps[left[i] as usize].end;
-            for j in 0..n {
-                if i != j && p.stn.before(end, p.steps[left[j] as usize].start) {
+        let mut row = Vec::new();
+        for j in 0..n {
+            p.stn.preceding(p.steps[left[j] as usize].start, &mut row);
+            for i in 0..n {
+                let end = p.steps[left[i] as usize].end as usize;
+                if i != j && row.get(end / 64).is_some_and(|w| w >> (end % 64) & 1 == 1) {
                     before[i * n + j] = true;
                 }
             }
@@ -723,6 +721,7 @@ mod tests {
     use super::super::super::plan::Plan;
     use super::super::Flaw;
     use super::super::test_support::{refined_by, with_search_as};
+    use rustc_hash::FxHashMap;
 
     /// A truck at `a` goes to `b`, then to `c`. `here` needs the truck at
     /// the place already; `drive` needs it where it starts.
@@ -789,6 +788,93 @@ mod tests {
                     "to the initial state"
                 );
             }
+        });
+    }
+
+    /// Two tasks that do not interfere, unordered: `a` and `b` each make
+    /// their own fact.
+    const TWO: &str = "(define (domain two) (:requirements :hierarchy)
+      (:predicates (done-a) (done-b))
+      (:task top :parameters ())
+      (:task ta :parameters ())
+      (:task tb :parameters ())
+      (:method m-top :parameters () :task (top) :subtasks (and (ta) (tb)))
+      (:method m-a :parameters () :task (ta) :subtasks (a))
+      (:method m-b :parameters () :task (tb) :subtasks (b))
+      (:action a :parameters () :effect (done-a))
+      (:action b :parameters () :effect (done-b)))";
+    const TWO_PROBLEM: &str = "(define (problem p) (:domain two)
+      (:htn :subtasks (and (top)))
+      (:init))";
+
+    /// Every plan grown from the front of `top`'s refinement: refining `tb`
+    /// then committing `b` then refining `ta` leaves what refining both
+    /// then committing `b` leaves (the state `done-b`, the step `a` left),
+    /// and both orders of the two steps end in the same state with nothing
+    /// left: the same key. A plan with `a` committed and one with `b`
+    /// committed have different keys; so have two plans with the same
+    /// state and a task left unrefined in one, refined in the other.
+    #[test]
+    fn plans_with_the_same_state_and_network_left_have_the_same_key() {
+        let config = Config::parse("AR-time-local-motion-front").expect("a configuration");
+        with_search_as(config, ("domain.hddl", "problem.hddl"), TWO, TWO_PROBLEM, |prepared, search| {
+            let task = &prepared.task;
+            let top = refined_by(prepared, search, "m-top");
+            // Each plan reached, with what it committed (in order) and what
+            // it left.
+            let committed = |p: &Plan| {
+                let mut done: Vec<(f64, String)> = (0..p.steps.len() as u32)
+                    .filter(|&s| search.committed(p, s))
+                    .map(|s| (p.stn.est(p.steps[s as usize].start), task.show_op(p.op_of(s).expect("an op"))))
+                    .collect();
+                done.sort_by(|x, y| x.0.total_cmp(&y.0));
+                done.into_iter().map(|(_, n)| n).collect::<Vec<_>>().join(" ")
+            };
+            let mut by_key: FxHashMap<Box<[u32]>, Vec<(String, usize)>> = FxHashMap::default();
+            let mut todo = vec![top];
+            let mut plans = Vec::new();
+            while let Some(mut p) = todo.pop() {
+                p.stn.flush();
+                let key = search.front_key(&p).expect("no threats");
+                by_key.entry(key).or_default().push((committed(&p), p.abstracts.len()));
+                let Some(flaw) = search.select(&mut p) else { continue };
+                let mut children = Vec::new();
+                search.resolvers(&p, flaw, &mut children);
+                todo.extend(children);
+                plans.push((committed(&p), p.abstracts.len(), p));
+            }
+            let keys_of = |done: &str, unrefined: usize| -> Vec<&Box<[u32]>> {
+                by_key
+                    .iter()
+                    .filter(|(_, plans)| plans.iter().any(|(d, u)| d == done && *u == unrefined))
+                    .map(|(k, _)| k)
+                    .collect()
+            };
+            // Both committed, in either order: one key for both.
+            let both = keys_of("(a) (b)", 0);
+            assert_eq!(both, keys_of("(b) (a)", 0));
+            assert_eq!(both.len(), 1);
+            // `b` committed, `a` left, reached two ways (`ta` refined
+            // before or after `b` was committed): one key.
+            let b_then = by_key.values().find(|plans| plans.iter().any(|(d, u)| d == "(b)" && *u == 0));
+            assert!(b_then.is_some_and(|plans| plans.len() >= 2), "{by_key:?}");
+            // Different states, or a task refined in one and not the other.
+            assert_ne!(keys_of("(a)", 0), keys_of("(b)", 0));
+            assert_ne!(keys_of("(b)", 0), keys_of("(b)", 1));
+            // The search records a plan, and drops one with its key unless
+            // its schedule is shorter.
+            let mut plans = plans.into_iter();
+            let (_, _, b_first) = plans.find(|(d, u, _)| d == "(b)" && *u == 0).expect("b committed");
+            let (_, _, b_again) = {
+                let key = search.front_key(&b_first);
+                plans.find(|(d, u, p)| d == "(b)" && *u == 0 && search.front_key(p) == key).expect("again")
+            };
+            assert!(!search.front_known(&b_first, 1.0));
+            assert!(search.front_record(&b_first, 1.0));
+            assert!(search.front_known(&b_again, 1.0));
+            assert!(!search.front_record(&b_again, 1.0));
+            assert!(!search.front_known(&b_again, 0.5));
+            assert!(search.front_record(&b_again, 0.5));
         });
     }
 }
