@@ -46,6 +46,18 @@ use super::{Flaw, Search};
 /// operators, 61,947 methods) the search expanded 3 plans in 10 s.
 pub const FRONT_MAX_ACTIONS: usize = 20_000;
 
+/// The weight of `h` in `f` for plans grown from their front (2 in the
+/// other searches of a purely hierarchical problem, `HTN_WEIGHT`): `g`
+/// grows by a step's ε with each step committed, and `h` is the relaxed
+/// composition's plan from the state they leave, which the search trusts
+/// more. With duplicates dropped ([`Search::front_key`]), weight 2 lost
+/// plans that the greedy descents had found (IPC 2020 Rover pfile08 in
+/// 1,116 expansions before, none in 20,000; Barman-BDI pfile07, 4,177 and
+/// none in 43,000); at 5 the first 10 of Barman-BDI went from 3 solved to
+/// 8, and Transport pfile14 and 15 (not solved in 10 s at 2) take 1,121
+/// and 1,681 (docs/benchmarks.md, 2026-11-27).
+pub(super) const FRONT_WEIGHT: f64 = 5.0;
+
 /// The state after the committed steps: for each atom a committed step
 /// writes, the last such step, its time point and the value it leaves.
 struct Prefix {
@@ -339,9 +351,8 @@ impl Search<'_, '_> {
         let left: Vec<u32> = view.rest.iter().chain(p.abstracts.iter()).copied().collect();
         let n = left.len();
         // Each step's operator (or task) and its conditions left.
-        let label = |s: u32| -> (u32, u32) {
-            (p.op_of(s).unwrap_or(u32::MAX), opens.get(&s).copied().unwrap_or(0))
-        };
+        let label =
+            |s: u32| -> (u32, u32) { (p.op_of(s).unwrap_or(u32::MAX), opens.get(&s).copied().unwrap_or(0)) };
         let labels: Vec<(u32, u32)> = left.iter().map(|&s| label(s)).collect();
         let mut before = vec![false; n * n];
         let mut row = Vec::new();
@@ -486,7 +497,16 @@ impl Composition {
                 users[f as usize].push(a as u32);
             }
         }
-        Composition { lits, pre, eff, own, users, cache: Default::default(), marked: Default::default(), seen: Default::default() }
+        Composition {
+            lits,
+            pre,
+            eff,
+            own,
+            users,
+            cache: Default::default(),
+            marked: Default::default(),
+            seen: Default::default(),
+        }
     }
 }
 
@@ -527,11 +547,7 @@ impl Search<'_, '_> {
         let mut r = match cache.iter().position(|r| r.state == state) {
             Some(i) => cache.remove(i),
             None => {
-                let mut r = if cache.len() < RELAXED_STATES {
-                    Relaxed::default()
-                } else {
-                    cache.remove(0)
-                };
+                let mut r = if cache.len() < RELAXED_STATES { Relaxed::default() } else { cache.remove(0) };
                 r.start(comp, task, &view.prefix, state);
                 r
             }
