@@ -53,9 +53,10 @@ pub const FRONT_MAX_ACTIONS: usize = 20_000;
 /// more. With duplicates dropped ([`Search::front_key`]), weight 2 lost
 /// plans that the greedy descents had found (IPC 2020 Rover pfile08 in
 /// 1,116 expansions before, none in 20,000; Barman-BDI pfile07, 4,177 and
-/// none in 43,000); at 5 the first 10 of Barman-BDI went from 3 solved to
-/// 8, and Transport pfile14 and 15 (not solved in 10 s at 2) take 1,121
-/// and 1,681 (docs/benchmarks.md, 2026-11-27).
+/// none in 43,000); at 5 the default sequence solves 6 to 8 of the first
+/// 10 of Barman-BDI (3 before; Rover pfile10 is lost), and Transport
+/// pfile14 and 15 (not solved in 10 s at 2) take 1,121 and 1,681
+/// expansions alone (docs/benchmarks.md, 2026-11-27).
 pub(super) const FRONT_WEIGHT: f64 = 5.0;
 
 /// The state after the committed steps: for each atom a committed step
