@@ -309,6 +309,56 @@ impl Stn {
         self.pred.get(b as usize).map_or(&[], |r| r.as_slice())
     }
 
+    /// The points before `b` in every solution, the orderings that wait
+    /// included: bit `a` of `out` is set when [`Stn::before`]`(a, b)` (a
+    /// whole row at once, for a caller that asks about many points).
+    pub fn preceding(&self, b: Tp, out: &mut Vec<u64>) {
+        out.clear();
+        out.resize(self.len().div_ceil(64), 0);
+        let add_row = |out: &mut Vec<u64>, x: Tp| {
+            if let Some(row) = self.pred.get(x as usize) {
+                for (o, w) in out.iter_mut().zip(row.iter()) {
+                    *o |= w;
+                }
+            }
+        };
+        add_row(out, b);
+        let p = &self.pending;
+        if p.is_empty() {
+            return;
+        }
+        // The orderings that wait on a path to `b`: backwards from `b`, as
+        // [`Stn::before_by_pending`] goes forwards.
+        let upto = |x: Tp, y: Tp| x == y || self.in_row(x, y);
+        let mut reached = 0u32;
+        for (i, &(_, to)) in p.iter().enumerate() {
+            if upto(to, b) {
+                reached |= 1 << i;
+            }
+        }
+        let mut todo = reached;
+        while todo != 0 {
+            let i = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
+            let from = p[i].0;
+            for (j, &(_, to)) in p.iter().enumerate() {
+                if reached >> j & 1 == 0 && upto(to, from) {
+                    reached |= 1 << j;
+                    todo |= 1 << j;
+                }
+            }
+        }
+        while reached != 0 {
+            let i = reached.trailing_zeros() as usize;
+            reached &= reached - 1;
+            let from = p[i].0;
+            add_row(out, from);
+            if let Some(w) = out.get_mut(from as usize / 64) {
+                *w |= 1 << (from % 64);
+            }
+        }
+    }
+
     /// Whether the closure's row of `b` holds `a`.
     #[inline]
     fn in_row(&self, a: Tp, b: Tp) -> bool {

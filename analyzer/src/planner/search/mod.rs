@@ -275,6 +275,9 @@ pub struct Search<'a, 'db> {
     /// Plans grow from their front ([`front`]): the relaxed composition
     /// of the task, for their estimate.
     composition: Option<front::Composition>,
+    /// Plans grown from their front that entered the open lists, by what
+    /// they have left to do ([`Search::front_key`]).
+    front_seen: std::cell::RefCell<front::Seen>,
 }
 
 /// How a search ended.
@@ -302,6 +305,7 @@ impl<'a, 'db> Search<'a, 'db> {
             from_seeds: Default::default(),
             walks: Default::default(),
             composition,
+            front_seen: Default::default(),
         }
     }
 
@@ -341,21 +345,30 @@ impl<'a, 'db> Search<'a, 'db> {
                 return None;
             }
         }
+        let (busiest, total) = self.work(plan);
+        let span = plan.makespan();
+        if self.at_front() && self.front_known(plan, span) {
+            // Grown from its front, with what is left to do as a plan met
+            // before: the same completions, none shorter.
+            return None;
+        }
         let (h, effort) = self.estimate(plan);
         if !h.is_finite() {
             // Grown from its front: what is left cannot run from there.
             return None;
         }
-        let (busiest, total) = self.work(plan);
-        let span = plan.makespan();
         Some((span.max(busiest) + penalty + STEP_COST * total, h, effort, span))
     }
 
     /// The weight of `h` in `f`: 2 (weighted A*) on a purely hierarchical
     /// problem, grounded top-down, where the decomposition's estimate
-    /// tells refinements apart that the makespan so far does not; 1 (A*)
+    /// tells refinements apart that the makespan so far does not
+    /// ([`front::FRONT_WEIGHT`] for plans grown from their front); 1 (A*)
     /// otherwise.
     fn weight(&self) -> f64 {
+        if self.at_front() {
+            return front::FRONT_WEIGHT;
+        }
         if self.task.g.tdg_methods.is_some() { HTN_WEIGHT } else { 1.0 }
     }
 
@@ -790,6 +803,9 @@ impl<'a, 'db> Search<'a, 'db> {
             // each was made ([`Child`]).
             let parent = scored.iter().any(|c| c.made.is_some()).then(|| Rc::new(plan));
             for c in scored {
+                if self.at_front() && !self.front_record(&c.plan, c.span) {
+                    continue;
+                }
                 id += 1;
                 let size = c.plan.steps.len();
                 let keys = [(c.f, c.effort), (self.size_rank(&c.plan, c.effort), c.effort)];
