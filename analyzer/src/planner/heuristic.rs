@@ -153,9 +153,10 @@ impl Heuristic {
                 }
             }
         }
-        let may_add = may_add(task);
+        let graph = SubtaskGraph::of(task);
+        let may_add = may_add(task, &graph);
         let needs = match &may_add {
-            Some(may) if task.achievers.is_empty() && task.htn.is_some() => needs(task, may),
+            Some(may) if task.achievers.is_empty() && task.htn.is_some() => needs(task, &graph, may),
             _ => None,
         };
         Heuristic { cost, effort, refine_cost, refine_effort, again_cost, again_effort, may_add, needs }
@@ -231,25 +232,13 @@ fn effect_end(op: &Op<'_>, e: &Eff) -> usize {
 /// first). Bounded in size. A fixpoint over the methods went through every
 /// method's subtasks' sets again each round: 40 % of the run on IPC 2020
 /// Monroe (74,349 ground operators, 61,947 method instances), 8 s.
-fn may_add(task: &Task<'_>) -> Option<MayAdd> {
+fn may_add(task: &Task<'_>, graph: &SubtaskGraph) -> Option<MayAdd> {
     const CAP: usize = 4_000_000;
-    let n = task.ops.len();
-    // The graph: an operator to its methods' subtasks.
-    let mut succ: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for m in &task.methods {
-        for &(_, s) in &m.subtasks {
-            succ[m.task as usize].push(s);
-        }
-    }
-    for v in &mut succ {
-        v.sort_unstable();
-        v.dedup();
-    }
-    let (comp, comps) = components(&succ);
+    let SubtaskGraph { succ, comp, comps } = graph;
     let mut sets: Vec<Vec<Lit>> = Vec::with_capacity(comps.len());
     let mut total = 0usize;
     // `components` lists a component after every component it reaches.
-    for members in &comps {
+    for members in comps {
         let c = sets.len() as u32;
         let mut v: Vec<Lit> = Vec::new();
         for &o in members {
@@ -272,7 +261,33 @@ fn may_add(task: &Task<'_>) -> Option<MayAdd> {
         }
         sets.push(v);
     }
-    Some(MayAdd { comp, sets })
+    Some(MayAdd { comp: comp.clone(), sets })
+}
+
+/// An operator to its methods' subtasks (each list sorted, no repeats),
+/// and the graph's strongly connected components ([`components`]): what
+/// [`may_add`] and [`needs`] go through, bottom up.
+struct SubtaskGraph {
+    succ: Vec<Vec<u32>>,
+    comp: Vec<u32>,
+    comps: Vec<Vec<u32>>,
+}
+
+impl SubtaskGraph {
+    fn of(task: &Task<'_>) -> SubtaskGraph {
+        let mut succ: Vec<Vec<u32>> = vec![Vec::new(); task.ops.len()];
+        for m in &task.methods {
+            for &(_, s) in &m.subtasks {
+                succ[m.task as usize].push(s);
+            }
+        }
+        for v in &mut succ {
+            v.sort_unstable();
+            v.dedup();
+        }
+        let (comp, comps) = components(&succ);
+        SubtaskGraph { succ, comp, comps }
+    }
 }
 
 /// What every refinement of each operator needs from outside it: the
@@ -291,27 +306,19 @@ fn may_add(task: &Task<'_>) -> Option<MayAdd> {
 /// in a method's free parameter: the task that grinds it from there needs
 /// the part in that treatment, however it is refined, and a binding it is
 /// not in is dropped when chosen. Bounded in size like [`may_add`].
-fn needs(task: &Task<'_>, may: &MayAdd) -> Option<Vec<Vec<Lit>>> {
+fn needs(task: &Task<'_>, graph: &SubtaskGraph, may: &MayAdd) -> Option<Vec<Vec<Lit>>> {
     const CAP: usize = 4_000_000;
     let n = task.ops.len();
-    let mut succ: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let SubtaskGraph { succ, comps, .. } = graph;
     let mut methods: Vec<Vec<u32>> = vec![Vec::new(); n];
     for (i, m) in task.methods.iter().enumerate() {
         methods[m.task as usize].push(i as u32);
-        for &(_, s) in &m.subtasks {
-            succ[m.task as usize].push(s);
-        }
     }
-    for v in &mut succ {
-        v.sort_unstable();
-        v.dedup();
-    }
-    let (_, comps) = components(&succ);
     let mut needs: Vec<Vec<Lit>> = vec![Vec::new(); n];
     let mut total = 0usize;
     let may_add = |op: u32, l: Lit| may.of(op).binary_search(&l).is_ok();
     // `components` lists a component after every component it reaches.
-    for members in &comps {
+    for members in comps {
         let &[o] = members.as_slice() else { continue };
         if succ[o as usize].contains(&o) {
             continue;
