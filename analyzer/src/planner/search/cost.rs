@@ -13,8 +13,16 @@ use super::Search;
 impl Search<'_, '_> {
     /// h of a plan, and the effort.
     pub(super) fn estimate(&self, p: &Plan) -> (f64, f64) {
+        self.estimate_in(p, None)
+    }
+
+    /// [`Search::estimate`], with the front of a plan grown from its front.
+    pub(super) fn estimate_in(&self, p: &Plan, view: Option<&super::front::View>) -> (f64, f64) {
+        if let Some(view) = view {
+            return self.front_estimate(p, view);
+        }
         if self.at_front() {
-            return self.front_estimate(p);
+            return self.front_estimate(p, &self.view(p));
         }
         let (mut h, mut effort) = (0.0, 0.0);
         let wanted = p.open.iter().filter(|o| !self.is_visit(o)).flat_map(|o| [o.lit, o.lit ^ 1]);

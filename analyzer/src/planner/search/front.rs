@@ -61,13 +61,13 @@ pub(super) const FRONT_WEIGHT: f64 = 5.0;
 
 /// The state after the committed steps: for each atom a committed step
 /// writes, the last such step, its time point and the value it leaves.
-struct Prefix {
+pub(super) struct Prefix {
     last: FxHashMap<u32, (u32, Tp, bool)>,
 }
 
 impl Prefix {
     /// Whether `l` holds after the committed steps.
-    fn holds(&self, task: &Task<'_>, l: Lit) -> bool {
+    pub(super) fn holds(&self, task: &Task<'_>, l: Lit) -> bool {
         match self.last.get(&atom_of(l)) {
             Some(&(_, _, v)) => v != is_neg(l),
             None => task.holds_initially(l),
@@ -86,10 +86,12 @@ impl Prefix {
 /// A plan's front: its prefix's state, the elementary steps not committed
 /// yet, the unrefined abstract steps, and which of them nothing left
 /// precedes.
-struct View {
-    prefix: Prefix,
+pub(super) struct View {
+    pub(super) prefix: Prefix,
     /// Elementary steps not committed.
-    rest: Vec<u32>,
+    pub(super) rest: Vec<u32>,
+    /// How many elementary steps are committed.
+    pub(super) committed: usize,
     /// Elementary steps of the front.
     steps: Vec<u32>,
     /// Indices in `Plan::abstracts` of the abstract steps of the front.
@@ -133,7 +135,7 @@ impl Search<'_, '_> {
             && (step.start == p.front || p.stn.before(step.start, p.front))
     }
 
-    fn view(&self, p: &Plan) -> View {
+    pub(super) fn view(&self, p: &Plan) -> View {
         let task = self.task;
         let mut done: Vec<(f64, u32)> = Vec::new();
         let mut rest = Vec::new();
@@ -175,7 +177,7 @@ impl Search<'_, '_> {
         };
         let steps = rest.iter().copied().filter(|&x| free(x)).collect();
         let abstracts = unrefined.iter().enumerate().filter(|&(_, &a)| free(a)).map(|(i, _)| i).collect();
-        View { prefix: Prefix { last }, rest, steps, abstracts }
+        View { prefix: Prefix { last }, rest, committed: done.len(), steps, abstracts }
     }
 
     /// The flaw of a plan grown from its front: its front, with the
@@ -328,12 +330,17 @@ impl Search<'_, '_> {
     /// in the plan's order, so two plans whose networks are the same up to
     /// the names of their steps may still have different keys (a duplicate
     /// missed, never a plan lost).
+    #[cfg(test)]
     pub(super) fn front_key(&self, p: &Plan) -> Option<Box<[u32]>> {
+        self.front_key_in(p, &self.view(p))
+    }
+
+    /// [`Search::front_key`], with the plan's front.
+    pub(super) fn front_key_in(&self, p: &Plan, view: &View) -> Option<Box<[u32]>> {
         if !p.threats.is_empty() {
             return None;
         }
         let task = self.task;
-        let view = self.view(p);
         let mut key = state_key(task, &view.prefix);
         key.push(u32::MAX);
         let mut goal_open = 0u32;
@@ -416,15 +423,25 @@ impl Search<'_, '_> {
     /// Whether a plan grown from its front is already in the open lists,
     /// or was, with an earliest schedule no longer than `span`: its
     /// completions are that plan's, and none is shorter.
+    #[cfg(test)]
     pub(super) fn front_known(&self, p: &Plan, span: f64) -> bool {
-        let Some(key) = self.front_key(p) else { return false };
-        self.front_seen.borrow().get(&key).is_some_and(|&s| s <= span)
+        self.front_key(p).is_some_and(|key| self.front_known_key(&key, span))
+    }
+
+    /// [`Search::front_known`] by the plan's key.
+    pub(super) fn front_known_key(&self, key: &[u32], span: f64) -> bool {
+        self.front_seen.borrow().get(key).is_some_and(|&s| s <= span)
     }
 
     /// Records a plan grown from its front that enters the open lists;
     /// `false` (not recorded) when [`Search::front_known`].
+    #[cfg(test)]
     pub(super) fn front_record(&self, p: &Plan, span: f64) -> bool {
-        let Some(key) = self.front_key(p) else { return true };
+        self.front_key(p).is_none_or(|key| self.front_record_key(key, span))
+    }
+
+    /// [`Search::front_record`] by the plan's key.
+    pub(super) fn front_record_key(&self, key: Box<[u32]>, span: f64) -> bool {
         let mut seen = self.front_seen.borrow_mut();
         match seen.get_mut(&key) {
             Some(s) if *s <= span => false,
@@ -529,10 +546,9 @@ impl Search<'_, '_> {
     /// [`RELAXED_STATES`] states ([`Relaxed`]), and computed only as far as
     /// the goals asked so far: the refinements of a plan's abstract step
     /// leave its state as it was, and the costs from it serve them all.
-    pub(super) fn front_estimate(&self, p: &Plan) -> (f64, f64) {
+    pub(super) fn front_estimate(&self, p: &Plan, view: &View) -> (f64, f64) {
         let Some(comp) = &self.composition else { return (0.0, 0.0) };
         let task = self.task;
-        let view = self.view(p);
         // The goals: the facts of what is left, and the goal's literals.
         let mut goals: Vec<u32> = view
             .rest
@@ -805,6 +821,28 @@ mod tests {
                     "to the initial state"
                 );
             }
+        });
+    }
+
+    /// The walk of a plan grown from its front starts after its committed
+    /// steps, from the state they leave: on every plan of the search's
+    /// tree, it says what the walk of all its steps from the initial state
+    /// says.
+    #[test]
+    fn the_walk_from_the_front_agrees_with_the_walk_from_the_start() {
+        let config = Config::parse("AR-time-local-motion-front").expect("a configuration");
+        with_search_as(config, ("domain.hddl", "problem.hddl"), DOMAIN, PROBLEM, |prepared, search| {
+            let mut todo = vec![refined_by(prepared, search, "m-tour")];
+            let (mut checked, mut committed) = (0, 0);
+            while let Some(mut p) = todo.pop() {
+                let view = search.view(&p);
+                assert_eq!(search.unrunnable(&p, Some(&view)), search.unrunnable(&p, None));
+                checked += 1;
+                committed += usize::from(view.committed > 0);
+                let Some(flaw @ Flaw::Front(_)) = search.select(&mut p) else { continue };
+                search.resolvers(&p, flaw, &mut todo);
+            }
+            assert!(checked >= 5 && committed >= 2, "{checked} plans, {committed} with committed steps");
         });
     }
 

@@ -325,7 +325,7 @@ impl<'a, 'db> Search<'a, 'db> {
     /// Also the makespan of its earliest schedule, which no completion of
     /// the plan shortens (steps and orderings are only added).
     fn score(&self, plan: &mut Plan) -> Option<(f64, f64, f64, f64)> {
-        self.score_as(plan, true)
+        self.score_as(plan, true, &mut None)
     }
 
     /// [`Search::score`]; `steps_changed` when the plan may have steps its
@@ -333,26 +333,39 @@ impl<'a, 'db> Search<'a, 'db> {
     /// steps checked for ones that can never run ([`Search::doomed`]),
     /// which a causal link's ordering seldom brings about and which costs
     /// about as much as the rest of the score on the plans of IPC 2020 PCP.
-    fn score_as(&self, plan: &mut Plan, steps_changed: bool) -> Option<(f64, f64, f64, f64)> {
+    /// A plan grown from its front gets its key ([`Search::front_key`]) in
+    /// `key`, for the search to record it when it enters the open lists.
+    fn score_as(
+        &self,
+        plan: &mut Plan,
+        steps_changed: bool,
+        key: &mut Option<Box<[u32]>>,
+    ) -> Option<(f64, f64, f64, f64)> {
         let penalty = self.settle(plan)?;
+        let span = plan.makespan();
+        // The front, read once for the key, the walk and the estimate.
+        let view = self.at_front().then(|| self.view(plan));
+        if let Some(view) = &view {
+            *key = self.front_key_in(plan, view);
+            if key.as_deref().is_some_and(|k| self.front_known_key(k, span)) {
+                // Grown from its front, with what is left to do as a plan
+                // met before: the same completions, none shorter. (Before
+                // the walk of its orders, which costs more.)
+                return None;
+            }
+        }
         if self.task.achievers.is_empty() {
             // No step is ever inserted: a link no step can support is dead.
             let ready = self.ready_links(plan);
             if self.dead_link(plan, &ready).is_some()
                 || steps_changed && self.doomed(plan)
-                || self.unrunnable(plan)
+                || self.unrunnable(plan, view.as_ref())
             {
                 return None;
             }
         }
         let (busiest, total) = self.work(plan);
-        let span = plan.makespan();
-        if self.at_front() && self.front_known(plan, span) {
-            // Grown from its front, with what is left to do as a plan met
-            // before: the same completions, none shorter.
-            return None;
-        }
-        let (h, effort) = self.estimate(plan);
+        let (h, effort) = self.estimate_in(plan, view.as_ref());
         if !h.is_finite() {
             // Grown from its front: what is left cannot run from there.
             return None;
@@ -451,10 +464,17 @@ impl<'a, 'db> Search<'a, 'db> {
             }
             let how = made.next();
             let added = if linking { c.steps.len() - p.steps.len() } else { 0 };
-            match self.score_as(&mut c, !linking) {
-                Some((g, h, effort, span)) => {
-                    out.push(Scored { f: g + self.weight() * h, span, effort, added, made: how, plan: c })
-                }
+            let mut key = None;
+            match self.score_as(&mut c, !linking, &mut key) {
+                Some((g, h, effort, span)) => out.push(Scored {
+                    f: g + self.weight() * h,
+                    span,
+                    effort,
+                    added,
+                    made: how,
+                    key,
+                    plan: c,
+                }),
                 None => dead(&c),
             }
         }
@@ -803,7 +823,9 @@ impl<'a, 'db> Search<'a, 'db> {
             // each was made ([`Child`]).
             let parent = scored.iter().any(|c| c.made.is_some()).then(|| Rc::new(plan));
             for c in scored {
-                if self.at_front() && !self.front_record(&c.plan, c.span) {
+                if let Some(key) = c.key
+                    && !self.front_record_key(key, c.span)
+                {
                     continue;
                 }
                 id += 1;
@@ -846,6 +868,8 @@ struct Scored {
     added: usize,
     /// How it was made, for an open link ([`Child::Made`]).
     made: Option<Made>,
+    /// Grown from its front: its key ([`Search::front_key`]).
+    key: Option<Box<[u32]>>,
     plan: Plan,
 }
 

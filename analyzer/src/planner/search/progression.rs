@@ -35,9 +35,10 @@
 use rustc_hash::FxHashSet;
 
 use super::super::plan::{Kind, Plan};
-use super::super::stn::Tp;
+use super::super::stn::{ORIGIN, Tp};
 use super::super::task::{atom_of, is_neg, lit};
 use super::Search;
+use super::front::View;
 
 /// Prefixes visited per step of the plan, beyond [`BUDGET_BASE`], before
 /// the walk gives up and keeps the plan.
@@ -136,7 +137,7 @@ impl Search<'_, '_> {
     /// no step is ever inserted, with instantaneous actions and no timed
     /// literals, and not in a repair (whose old steps ran from another
     /// state). `false` when the walk gives up.
-    pub(super) fn unrunnable(&self, p: &Plan) -> bool {
+    pub(super) fn unrunnable(&self, p: &Plan, view: Option<&View>) -> bool {
         let task = self.task;
         if self.tokens.is_none() || self.from_seeds.get() || !task.tils.is_empty() {
             return false;
@@ -145,20 +146,33 @@ impl Search<'_, '_> {
         if walks >= TRIAL && dropped * TRIAL_RATE < walks {
             return false;
         }
-        let dead = self.walk(p);
+        let dead = self.walk(p, view);
         self.walks.set((walks + 1, dropped + dead as u64));
         dead
     }
 
-    /// [`Search::unrunnable`]'s walk.
-    fn walk(&self, p: &Plan) -> bool {
+    /// [`Search::unrunnable`]'s walk; `view`, the front of a plan grown
+    /// from its front.
+    fn walk(&self, p: &Plan, view: Option<&View>) -> bool {
         let task = self.task;
+        // Grown from its front, the committed steps run first, in their
+        // order, before every step left: the walk starts after them, from
+        // the state they leave.
+        let front = view.filter(|_| p.front != ORIGIN);
+        let mut left = vec![front.is_none(); p.steps.len()];
+        for &s in front.iter().flat_map(|v| &v.rest) {
+            left[s as usize] = true;
+        }
+        let walked = |s: usize| left[s];
         // The atoms the elementary steps read or write, numbered.
         let mut atoms: Vec<u32> = Vec::new();
         let mut elementary = 0usize;
         for (s, step) in p.steps.iter().enumerate() {
             let Kind::Op(o) = step.kind else { continue };
             let op = &task.ops[o as usize];
+            if !op.is_abstract && !walked(s) {
+                continue;
+            }
             if op.is_abstract {
                 // A refined abstract action's own effects: not followed.
                 if !op.effs.is_empty() && !p.abstracts.contains(&(s as u32)) {
@@ -180,10 +194,10 @@ impl Search<'_, '_> {
         atoms.dedup();
         let index = |a: u32| atoms.binary_search(&a).expect("an atom of the plan");
         let mut points: Vec<Point> = Vec::new();
-        for step in p.steps.iter() {
+        for (s, step) in p.steps.iter().enumerate() {
             let Kind::Op(o) = step.kind else { continue };
             let op = &task.ops[o as usize];
-            if op.is_abstract {
+            if op.is_abstract || !walked(s) {
                 continue;
             }
             let conds = op.conds.iter().map(|c| (index(atom_of(c.lit)), !is_neg(c.lit))).collect();
@@ -235,11 +249,18 @@ impl Search<'_, '_> {
         let mut state =
             State { known: vec![u64::MAX; words], value: vec![0; words], open: vec![0; atoms.len()] };
         for (i, &a) in atoms.iter().enumerate() {
-            set(&mut state.value, i, task.init.get(a as usize).copied().unwrap_or(false));
+            let holds = match front {
+                Some(view) => view.prefix.holds(task, lit(a, false)),
+                None => task.init.get(a as usize).copied().unwrap_or(false),
+            };
+            set(&mut state.value, i, holds);
         }
         let mut done = vec![0u64; n.div_ceil(64)];
         let mut seen: FxHashSet<(Vec<u64>, State)> = FxHashSet::default();
-        let mut budget = BUDGET_BASE + BUDGET_PER_STEP * n;
+        // The committed steps count as they did when the walk went through
+        // them, one prefix each.
+        let committed = front.map_or(0, |v| v.committed);
+        let mut budget = BUDGET_BASE + BUDGET_PER_STEP * n + committed;
         // A level of the walk: the points that may come next, the next to
         // try, the one run from it (to undo) and the state before it.
         struct Level {
@@ -361,7 +382,7 @@ mod tests {
                     // The relaxed checks see nothing wrong.
                     assert!(search.stuck(&plan).is_none(), "{method}");
                     assert!(search.starved(&plan).is_none(), "{method}");
-                    assert_eq!(search.unrunnable(&plan), dead, "{method}");
+                    assert_eq!(search.unrunnable(&plan, None), dead, "{method}");
                     assert_eq!(search.score(&mut plan).is_none(), dead, "{method}");
                 },
             );
