@@ -146,14 +146,28 @@ struct Forward<'a, 'db> {
     task: &'a Task<'db>,
     /// The operators it runs (elementary, allowed, not dead), by local id.
     ops: Vec<u32>,
-    /// By atom: the local operators whose first positive `at start`
-    /// condition is that atom; `unkeyed`: those without one.
-    keyed: Vec<Vec<u32>>,
+    /// The successor index. By atom: the local operators keyed by that
+    /// atom, the one of their positive `at start` conditions that the
+    /// fewest operators share (the rarest to hold: on DriverLog's hand-coded
+    /// problems the first one, `(at ?truck ?from)`, keyed up to 296 drives,
+    /// Depots' `(at ?hoist ?place)` up to 5,000 lifts); `unkeyed`: those
+    /// without one.
+    keyed: Lists,
     unkeyed: Vec<u32>,
+    /// Per local operator: its literal conditions `at start` and
+    /// `over all` (checked as it starts), in one array; whether it has
+    /// numeric ones `at start`.
+    start_lits: Lists,
+    num_start: Vec<bool>,
     /// Facts of the relaxation: the literals some condition or goal
     /// needs, then one per group of numeric conditions ([`helpers`]).
     fact_lit: Vec<Lit>,
     n_facts: usize,
+    /// By atom: the fact of its positive literal (`FAR`: none); the facts
+    /// of negative literals (a state's facts found from its atoms, not by
+    /// testing every fact).
+    pos_fact: Vec<u32>,
+    neg_facts: Vec<u32>,
     /// Per local operator: the literal facts it needs, the numeric
     /// conditions it needs at its start (index in its operator's
     /// `num_conds`, and their fact), the facts it adds.
@@ -205,12 +219,12 @@ impl Lists {
 struct Scratch {
     stamp: u32,
     fact_stamp: Vec<u32>,
-    op_stamp: Vec<u32>,
+    /// Per operator: what the relaxation reads and writes of it, side by
+    /// side ([`OpWork`]).
+    work: Vec<OpWork>,
     cost: Vec<u32>,
     achiever: Vec<u32>,
-    counter: Vec<u32>,
     waiting: Vec<u32>,
-    op_cost: Vec<u32>,
     /// Per operator: its numeric facts that did not hold in the state
     /// (`touched`: the operators with some).
     unmet: Vec<Vec<u32>>,
@@ -219,14 +233,41 @@ struct Scratch {
     /// facts with some).
     waiters: Vec<Vec<u32>>,
     waited: Vec<u32>,
-    /// h_add: a fact's cost is final (popped), per stamp; an operator's
-    /// sum of its conditions' costs so far.
+    /// h_add: a fact's cost is final (popped), per stamp.
     done_stamp: Vec<u32>,
-    sum: Vec<u32>,
     /// Marked in the relaxed plan: the complement of the call's stamp.
     marked_op: Vec<u32>,
     marked_fact: Vec<u32>,
+    /// The queue of facts by cost, the operators whose conditions are all
+    /// reached, the relaxed plan's stack: kept from call to call (their
+    /// memory allocated once, not per state).
+    heap: BinaryHeap<Reverse<(u32, u32)>>,
+    ready: Vec<(u32, u32)>,
+    stack: Vec<u32>,
 }
+
+/// An operator in the relaxation: its work, valid when `stamp` is the
+/// call's (its conditions left, the sum of their costs so far, its cost),
+/// and what it needs and adds, in 32 bytes. The relaxation reaches a
+/// hundred thousand operators per state in no order: one cache line each,
+/// not one per array (on Depots `time-simple` hand-coded problem 2 the
+/// loads of the separate arrays were most of its time).
+#[derive(Clone, Copy, Default)]
+struct OpWork {
+    stamp: u32,
+    counter: u32,
+    sum: u32,
+    cost: u32,
+    /// Its literal facts needed.
+    npre: u32,
+    /// The number of facts it adds, and [`NUMERIC`].
+    info: u32,
+    /// The facts it adds when they are at most two (else in `add`).
+    add: [u32; 2],
+}
+
+/// In [`OpWork::info`]: the operator has numeric conditions.
+const NUMERIC: u32 = 1 << 31;
 
 impl<'a, 'db> Forward<'a, 'db> {
     fn new(task: &'a Task<'db>) -> Forward<'a, 'db> {
@@ -237,15 +278,35 @@ impl<'a, 'db> Forward<'a, 'db> {
             })
             .collect();
         let n_atoms = task.init.len();
+        let mut start_lits = Vec::with_capacity(ops.len());
+        let mut shared = vec![0u32; n_atoms];
+        for &o in &ops {
+            let op = &task.ops[o as usize];
+            let mut l: Vec<u32> = op.conds.iter().filter(|c| c.at == End::Start).map(|c| c.lit).collect();
+            l.sort_unstable();
+            l.dedup();
+            for &c in l.iter().filter(|&&c| !is_neg(c)) {
+                shared[atom_of(c) as usize] += 1;
+            }
+            start_lits.push(l);
+        }
         let mut keyed = vec![Vec::new(); n_atoms];
         let mut unkeyed = Vec::new();
-        for (k, &o) in ops.iter().enumerate() {
-            let op = &task.ops[o as usize];
-            match op.conds.iter().find(|c| c.at == End::Start && !is_neg(c.lit)) {
-                Some(c) => keyed[atom_of(c.lit) as usize].push(k as u32),
+        for (k, l) in start_lits.iter().enumerate() {
+            // The first of the rarest, for a deterministic choice.
+            match l
+                .iter()
+                .filter(|&&c| !is_neg(c))
+                .map(|&c| atom_of(c))
+                .min_by_key(|&a| (shared[a as usize], a))
+            {
+                Some(a) => keyed[a as usize].push(k as u32),
                 None => unkeyed.push(k as u32),
             }
         }
+        let num_start =
+            ops.iter().map(|&o| task.ops[o as usize].num_conds.iter().any(|c| c.at == End::Start)).collect();
+        let (keyed, start_lits) = (Lists::new(keyed), Lists::new(start_lits));
         // The literal facts.
         let mut fact_of: FxHashMap<Lit, u32> = FxHashMap::default();
         let mut fact_lit = Vec::new();
@@ -325,6 +386,15 @@ impl<'a, 'db> Forward<'a, 'db> {
             }
         }
         let no_pre = (0..ops.len() as u32).filter(|&k| pre[k as usize].is_empty()).collect();
+        let mut pos_fact = vec![FAR; n_atoms];
+        let mut neg_facts = Vec::new();
+        for (f, &l) in fact_lit.iter().enumerate() {
+            if is_neg(l) {
+                neg_facts.push(f as u32);
+            } else {
+                pos_fact[atom_of(l) as usize] = f as u32;
+            }
+        }
         let numeric = num_pre.iter().map(|n| !n.is_empty()).collect();
         let (pre, add, consumers) = (Lists::new(pre), Lists::new(add), Lists::new(consumers));
         Forward {
@@ -334,8 +404,12 @@ impl<'a, 'db> Forward<'a, 'db> {
             ops,
             keyed,
             unkeyed,
+            start_lits,
+            num_start,
             fact_lit,
             n_facts,
+            pos_fact,
+            neg_facts,
             pre,
             num_pre,
             add,
@@ -349,12 +423,24 @@ impl<'a, 'db> Forward<'a, 'db> {
         Scratch {
             stamp: 0,
             fact_stamp: vec![0; self.n_facts],
-            op_stamp: vec![0; self.ops.len()],
+            work: (0..self.ops.len())
+                .map(|k| {
+                    let add = self.add.get(k);
+                    let mut inline = [FAR; 2];
+                    if add.len() <= 2 {
+                        inline[..add.len()].copy_from_slice(add);
+                    }
+                    OpWork {
+                        npre: self.pre.len_of(k),
+                        info: add.len() as u32 | if self.numeric[k] { NUMERIC } else { 0 },
+                        add: inline,
+                        ..OpWork::default()
+                    }
+                })
+                .collect(),
             cost: vec![FAR; self.n_facts],
             achiever: vec![FAR; self.n_facts],
-            counter: vec![0; self.ops.len()],
             waiting: vec![0; self.ops.len()],
-            op_cost: vec![FAR; self.ops.len()],
             unmet: vec![Vec::new(); self.ops.len()],
             touched: Vec::new(),
             waiters: vec![Vec::new(); self.n_facts],
@@ -362,7 +448,9 @@ impl<'a, 'db> Forward<'a, 'db> {
             marked_op: vec![0; self.ops.len()],
             marked_fact: vec![0; self.n_facts],
             done_stamp: vec![0; self.n_facts],
-            sum: vec![0; self.ops.len()],
+            heap: BinaryHeap::new(),
+            ready: Vec::new(),
+            stack: Vec::new(),
         }
     }
 
@@ -394,13 +482,16 @@ impl<'a, 'db> Forward<'a, 'db> {
     /// Whether local operator `k` may start in `s`: its `at start`
     /// conditions hold there (the rest is checked by [`Forward::apply`]).
     fn may_start(&self, s: &State, k: u32) -> bool {
-        let op = &self.task.ops[self.ops[k as usize] as usize];
-        op.conds.iter().all(|c| c.at == End::End || s.holds(c.lit))
-            && op.num_conds.iter().all(|c| c.at == End::End || self.num_holds(s, c))
+        self.start_lits.get(k as usize).iter().all(|&l| s.holds(l))
+            && (!self.num_start[k as usize] || {
+                let op = &self.task.ops[self.ops[k as usize] as usize];
+                op.num_conds.iter().all(|c| c.at == End::End || self.num_holds(s, c))
+            })
     }
 
     /// The state after local operator `k` runs alone from `s`, and its
     /// duration; `None` when it cannot run there.
+    #[inline(never)]
     fn apply(&self, s: &State, k: u32) -> Option<(State, f64)> {
         let task = self.task;
         let num = &task.numeric;
@@ -437,7 +528,9 @@ impl<'a, 'db> Forward<'a, 'db> {
         Some((t, duration))
     }
 
-    /// The local operators that may start in `s`.
+    /// The local operators that may start in `s`, by number (the order
+    /// of the search's ties, whatever the index).
+    #[inline(never)]
     fn successors(&self, s: &State, out: &mut Vec<u32>) {
         out.clear();
         for (w, &word) in s.atoms.iter().enumerate() {
@@ -446,10 +539,18 @@ impl<'a, 'db> Forward<'a, 'db> {
                 let b = bits.trailing_zeros();
                 bits &= bits - 1;
                 let atom = w * 64 + b as usize;
-                out.extend(self.keyed[atom].iter().copied().filter(|&k| self.may_start(s, k)));
+                out.extend(self.keyed.get(atom).iter().copied().filter(|&k| self.may_start(s, k)));
             }
         }
         out.extend(self.unkeyed.iter().copied().filter(|&k| self.may_start(s, k)));
+        out.sort_unstable();
+    }
+
+    /// How many operators [`Forward::successors`] tests in `s`.
+    #[cfg(test)]
+    fn tested(&self, s: &State) -> usize {
+        (0..self.task.init.len()).filter(|&a| s.has(a as u32)).map(|a| self.keyed.get(a).len()).sum::<usize>()
+            + self.unkeyed.len()
     }
 
     /// FF's estimate of `s`: the actions of a relaxed plan to the goal,
@@ -462,12 +563,15 @@ impl<'a, 'db> Forward<'a, 'db> {
     /// states (215 now), hand-coded problem 1 more than 7,000 (1,605).
     /// The work arrays are stamped per call: a call touches what it
     /// reaches, not every operator of the task.
+    #[inline(never)]
     fn relaxed(&self, s: &State, x: &mut Scratch, helpful: &mut Vec<u32>) -> Option<u32> {
         helpful.clear();
         x.stamp = x.stamp.wrapping_add(1);
         if x.stamp == 0 {
             x.fact_stamp.fill(0);
-            x.op_stamp.fill(0);
+            for w in &mut x.work {
+                w.stamp = 0;
+            }
             x.done_stamp.fill(0);
             x.stamp = 1;
         }
@@ -481,22 +585,42 @@ impl<'a, 'db> Forward<'a, 'db> {
         }
         x.waited.clear();
         // A fact's cost, an operator's cost (its conditions' and 1).
-        let mut heap: BinaryHeap<Reverse<(u32, u32)>> = BinaryHeap::new();
-        for (f, &l) in self.fact_lit.iter().enumerate() {
-            if s.holds(l) {
-                x.fact_stamp[f] = stamp;
-                x.cost[f] = 0;
-                heap.push(Reverse((0, f as u32)));
+        let mut heap = std::mem::take(&mut x.heap);
+        heap.clear();
+        // The facts of the state (the order of the pushes does not
+        // matter: facts of one cost leave the queue by number).
+        let mut hold = |f: u32| {
+            x.fact_stamp[f as usize] = stamp;
+            x.cost[f as usize] = 0;
+            heap.push(Reverse((0, f)));
+        };
+        for (w, &word) in s.atoms.iter().enumerate() {
+            let mut bits = word;
+            while bits != 0 {
+                let b = bits.trailing_zeros();
+                bits &= bits - 1;
+                let f = self.pos_fact[w * 64 + b as usize];
+                if f != FAR {
+                    hold(f);
+                }
+            }
+        }
+        for &f in &self.neg_facts {
+            if s.holds(self.fact_lit[f as usize]) {
+                hold(f);
             }
         }
         let mut goals_left = self.goals.len();
-        let mut ready: Vec<(u32, u32)> = self.no_pre.iter().map(|&k| (k, 0)).collect();
-        loop {
+        let mut ready = std::mem::take(&mut x.ready);
+        ready.clear();
+        ready.extend(self.no_pre.iter().map(|&k| (k, 0)));
+        let reached = loop {
             // Operators whose conditions are all reached: their numeric
             // conditions, then their effects.
             while let Some((k, base)) = ready.pop() {
                 let mut extra = 0u32;
-                if self.numeric[k as usize] {
+                let w = x.work[k as usize];
+                if w.info & NUMERIC != 0 {
                     let op = &self.task.ops[self.ops[k as usize] as usize];
                     let mut unmet = std::mem::take(&mut x.unmet[k as usize]);
                     let mut waiting = Vec::new();
@@ -521,7 +645,7 @@ impl<'a, 'db> Forward<'a, 'db> {
                     x.unmet[k as usize] = unmet;
                     if !waiting.is_empty() {
                         x.waiting[k as usize] = waiting.len() as u32;
-                        x.sum[k as usize] = base + extra;
+                        x.work[k as usize].sum = base + extra;
                         for &f in &waiting {
                             if x.waiters[f as usize].is_empty() {
                                 x.waited.push(f);
@@ -532,8 +656,10 @@ impl<'a, 'db> Forward<'a, 'db> {
                     }
                 }
                 let c = base + extra + 1;
-                x.op_cost[k as usize] = c;
-                for &f in self.add.get(k as usize) {
+                x.work[k as usize].cost = c;
+                let n_add = (w.info & !NUMERIC) as usize;
+                let adds = if n_add <= 2 { &w.add[..n_add] } else { self.add.get(k as usize) };
+                for &f in adds {
                     if x.fact_stamp[f as usize] != stamp || c < x.cost[f as usize] {
                         x.fact_stamp[f as usize] = stamp;
                         x.cost[f as usize] = c;
@@ -542,7 +668,7 @@ impl<'a, 'db> Forward<'a, 'db> {
                     }
                 }
             }
-            let Reverse((c, f)) = heap.pop()?;
+            let Some(Reverse((c, f))) = heap.pop() else { break false };
             if x.done_stamp[f as usize] == stamp || c > x.cost[f as usize] {
                 continue;
             }
@@ -550,31 +676,31 @@ impl<'a, 'db> Forward<'a, 'db> {
             if self.goals.binary_search(&f).is_ok() {
                 goals_left -= 1;
                 if goals_left == 0 {
-                    break;
+                    break true;
                 }
             }
             if (f as usize) < self.fact_lit.len() {
                 for &k in self.consumers.get(f as usize) {
-                    let k = k as usize;
-                    if x.op_stamp[k] != stamp {
-                        x.op_stamp[k] = stamp;
-                        x.counter[k] = self.pre.len_of(k);
-                        x.sum[k] = 0;
+                    let w = &mut x.work[k as usize];
+                    if w.stamp != stamp {
+                        w.stamp = stamp;
+                        w.counter = w.npre;
+                        w.sum = 0;
                     }
-                    x.counter[k] -= 1;
-                    x.sum[k] += c;
-                    if x.counter[k] == 0 {
-                        ready.push((k as u32, x.sum[k]));
+                    w.counter -= 1;
+                    w.sum += c;
+                    if w.counter == 0 {
+                        ready.push((k, w.sum));
                     }
                 }
             } else {
                 let waiters = std::mem::take(&mut x.waiters[f as usize]);
                 for &k in &waiters {
                     x.waiting[k as usize] -= 1;
-                    x.sum[k as usize] += c;
+                    x.work[k as usize].sum += c;
                     if x.waiting[k as usize] == 0 {
-                        let c = x.sum[k as usize] + 1;
-                        x.op_cost[k as usize] = c;
+                        let c = x.work[k as usize].sum + 1;
+                        x.work[k as usize].cost = c;
                         for &g in self.add.get(k as usize) {
                             if x.fact_stamp[g as usize] != stamp || c < x.cost[g as usize] {
                                 x.fact_stamp[g as usize] = stamp;
@@ -587,9 +713,16 @@ impl<'a, 'db> Forward<'a, 'db> {
                 }
                 x.waiters[f as usize] = waiters;
             }
+        };
+        x.heap = heap;
+        x.ready = ready;
+        if !reached {
+            return None;
         }
         let mark = !stamp;
-        let mut stack: Vec<u32> = self.goals.iter().copied().filter(|&g| x.cost[g as usize] > 0).collect();
+        let mut stack = std::mem::take(&mut x.stack);
+        stack.clear();
+        stack.extend(self.goals.iter().copied().filter(|&g| x.cost[g as usize] > 0));
         let mut h = 0;
         while let Some(f) = stack.pop() {
             if std::mem::replace(&mut x.marked_fact[f as usize], mark) == mark {
@@ -600,7 +733,7 @@ impl<'a, 'db> Forward<'a, 'db> {
                 continue;
             }
             h += 1;
-            if x.op_cost[k as usize] == 1 {
+            if x.work[k as usize].cost == 1 {
                 helpful.push(k);
             }
             stack.extend(self.pre.get(k as usize).iter().copied().filter(|&p| x.cost[p as usize] > 0));
@@ -608,6 +741,7 @@ impl<'a, 'db> Forward<'a, 'db> {
                 stack.extend(x.unmet[k as usize].iter().copied());
             }
         }
+        x.stack = stack;
         Some(h)
     }
 }
@@ -1070,6 +1204,98 @@ mod tests {
                 (found, names)
             })
             .expect("not cancelled")
+    }
+
+    /// Runs `f` on the forward search's model of a fixture of
+    /// `tests/planner`.
+    fn with_forward(file: &str, f: impl FnOnce(&Forward<'_, '_>) + std::panic::UnwindSafe) {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/planner").join(file);
+        let text = std::fs::read_to_string(&path).expect("the fixture");
+        let mut host = crate::AnalysisHost::new();
+        let pf = host.set_file_text(file, text);
+        host.analysis()
+            .with_db(|db| {
+                let unit = crate::host::first_problem(db, pf).expect("a problem");
+                let config = Config::default();
+                let limits = PlannerLimits { nodes: Some(10_000), ..PlannerLimits::default() };
+                let prepared = prepare(db, unit, &config, &limits).ok().expect("prepared");
+                f(&Forward::new(&prepared.task));
+            })
+            .expect("not cancelled");
+    }
+
+    /// The successor index keys each operator by the positive `at start`
+    /// condition the fewest operators share: DriverLog's `board-truck`
+    /// by `(empty ?truck)`, not by `(at ?truck ?loc)`, which every load,
+    /// unload, boarding and disembarking there shares. In the initial
+    /// state it tests fewer operators than keyed by the first condition.
+    #[test]
+    fn operators_are_keyed_by_their_rarest_condition() {
+        with_forward("drivers-share-trucks.pddl", |fw| {
+            let task = fw.task;
+            let starts = |k: usize| -> Vec<u32> {
+                let op = &task.ops[fw.ops[k] as usize];
+                op.conds
+                    .iter()
+                    .filter(|c| c.at == End::Start && !is_neg(c.lit))
+                    .map(|c| atom_of(c.lit))
+                    .collect()
+            };
+            let mut shared = vec![0usize; task.init.len()];
+            for k in 0..fw.ops.len() {
+                let mut a = starts(k);
+                a.sort_unstable();
+                a.dedup();
+                for a in a {
+                    shared[a as usize] += 1;
+                }
+            }
+            let mut first_keyed = vec![0usize; task.init.len()];
+            let mut differs = 0;
+            for a in 0..task.init.len() {
+                for &k in fw.keyed.get(a) {
+                    let conds = starts(k as usize);
+                    assert!(
+                        conds.iter().all(|&c| shared[a] <= shared[c as usize]),
+                        "{}",
+                        task.show_op(fw.ops[k as usize])
+                    );
+                    first_keyed[conds[0] as usize] += 1;
+                    differs += usize::from(conds[0] != a as u32);
+                }
+            }
+            assert!(differs > 0);
+            let s = fw.initial();
+            let by_first: usize =
+                (0..task.init.len()).filter(|&a| s.has(a as u32)).map(|a| first_keyed[a]).sum();
+            assert!(
+                fw.tested(&s) < by_first,
+                "{} tested, {by_first} keyed by the first condition",
+                fw.tested(&s)
+            );
+        });
+    }
+
+    /// The successors from the index are the operators whose `at start`
+    /// conditions hold, tested one by one, along a walk of 30 states.
+    #[test]
+    fn successors_are_the_operators_that_may_start() {
+        with_forward("drivers-share-trucks.pddl", |fw| {
+            let mut s = fw.initial();
+            let mut succ = Vec::new();
+            for step in 0..30 {
+                fw.successors(&s, &mut succ);
+                let all: Vec<u32> = (0..fw.ops.len() as u32)
+                    .filter(|&k| {
+                        let op = &fw.task.ops[fw.ops[k as usize] as usize];
+                        op.conds.iter().all(|c| c.at == End::End || s.holds(c.lit))
+                    })
+                    .collect();
+                assert_eq!(succ, all, "state {step}");
+                let Some(next) = succ.iter().rev().find_map(|&k| fw.apply(&s, k)) else { break };
+                s = next.0;
+            }
+        });
     }
 
     /// `fix` needs the light on over all of it, and `light` turns it off at
