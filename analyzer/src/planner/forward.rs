@@ -1365,8 +1365,34 @@ mod tests {
     /// The forward search's end on a fixture of `tests/planner`, and the
     /// names of the operators of the sequence it found.
     fn forward_on(file: &str) -> (Found, Vec<String>) {
+        forward_on_text(file, fixture(file))
+    }
+
+    /// A fixture of `tests/planner`.
+    fn fixture(file: &str) -> String {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/planner").join(file);
-        let text = std::fs::read_to_string(&path).expect("the fixture");
+        std::fs::read_to_string(&path).expect("the fixture")
+    }
+
+    /// IPC 2002 Rovers time-simple, hand-coded problem 10 (4,261 ground
+    /// operators), its domain and problem in one text; `None`, saying so,
+    /// without the corpora.
+    fn rovers_hand_coded_10() -> Option<String> {
+        let dir = std::env::var_os("HIPOP_CORPORA")
+            .map(std::path::PathBuf::from)
+            .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpora"));
+        let set = dir.join("ipc2002-temporal/rovers-time-simple-hand-coded");
+        let read = |p: &str| std::fs::read_to_string(set.join(p)).ok();
+        match (read("domain.pddl"), read("instances/instance-10.pddl")) {
+            (Some(d), Some(p)) => Some(format!("{d}\n{p}")),
+            _ => {
+                eprintln!("skipped: the corpora are not in ../shared/corpora (set HIPOP_CORPORA)");
+                None
+            }
+        }
+    }
+
+    fn forward_on_text(file: &str, text: String) -> (Found, Vec<String>) {
         let mut host = crate::AnalysisHost::new();
         let pf = host.set_file_text(file, text);
         host.analysis()
@@ -1482,9 +1508,7 @@ mod tests {
     /// The expansions of the enforced hill-climbing and of the greedy
     /// best-first search alone on a fixture, up to `nodes` each: whether
     /// each found a sequence, and its expansions.
-    fn both_on(file: &str, nodes: u64) -> [(bool, u64); 2] {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/planner").join(file);
-        let text = std::fs::read_to_string(&path).expect("the fixture");
+    fn both_on(file: &str, text: String, nodes: u64) -> [(bool, u64); 2] {
         let mut host = crate::AnalysisHost::new();
         let pf = host.set_file_text(file, text);
         host.analysis()
@@ -1515,10 +1539,11 @@ mod tests {
     /// the greedy best-first search alone does not (1,783).
     #[test]
     fn hill_climbing_finds_a_rovers_sequence_in_fewer_expansions() {
-        let [ehc, gbfs] = both_on("rovers-hill-climbing.pddl", 1_000);
+        let Some(text) = rovers_hand_coded_10() else { return };
+        let [ehc, gbfs] = both_on("rovers.pddl", text.clone(), 1_000);
         assert!(ehc.0, "enforced hill-climbing: {ehc:?}");
         assert!(!gbfs.0, "best-first: {gbfs:?}");
-        let (found, _) = forward_on("rovers-hill-climbing.pddl");
+        let (found, _) = forward_on_text("rovers.pddl", text);
         assert!(matches!(found, Found::Plan(_)), "{found:?}");
     }
 
@@ -1527,7 +1552,8 @@ mod tests {
     /// search finds the sequence.
     #[test]
     fn the_best_first_search_takes_over_when_hill_climbing_runs_out() {
-        let [ehc, gbfs] = both_on("towers-hill-climbing-runs-out.pddl", 10_000);
+        let file = "towers-hill-climbing-runs-out.pddl";
+        let [ehc, gbfs] = both_on(file, fixture(file), 10_000);
         assert!(!ehc.0 && ehc.1 < 10, "enforced hill-climbing: {ehc:?}");
         assert!(gbfs.0, "best-first: {gbfs:?}");
         let (found, names) = forward_on("towers-hill-climbing-runs-out.pddl");
