@@ -1392,43 +1392,43 @@ mod tests {
         }
     }
 
-    fn forward_on_text(file: &str, text: String) -> (Found, Vec<String>) {
+    /// Runs `f` on the prepared task of a text holding a domain and a
+    /// problem, planned with a node limit of `nodes`.
+    fn with_prepared<T>(
+        file: &str,
+        text: String,
+        nodes: u64,
+        f: impl FnOnce(&Prepared<'_>, &PlannerLimits) -> T + std::panic::UnwindSafe,
+    ) -> T {
         let mut host = crate::AnalysisHost::new();
         let pf = host.set_file_text(file, text);
         host.analysis()
             .with_db(|db| {
                 let unit = crate::host::first_problem(db, pf).expect("a problem");
-                let config = Config::default();
-                let limits = PlannerLimits { nodes: Some(10_000), ..PlannerLimits::default() };
-                let prepared = prepare(db, unit, &config, &limits).ok().expect("prepared");
-                assert!(applies(&prepared.task));
-                let mut stats = Stats::default();
-                let found = search(&prepared.task, &limits, &|| false, &mut |_| {}, &mut stats);
-                let names = match &found {
-                    Found::Plan(steps) => steps.iter().map(|s| prepared.task.show_op(s.op)).collect(),
-                    _ => Vec::new(),
-                };
-                (found, names)
+                let limits = PlannerLimits { nodes: Some(nodes), ..PlannerLimits::default() };
+                let prepared = prepare(db, unit, &Config::default(), &limits).ok().expect("prepared");
+                f(&prepared, &limits)
             })
             .expect("not cancelled")
+    }
+
+    fn forward_on_text(file: &str, text: String) -> (Found, Vec<String>) {
+        with_prepared(file, text, 10_000, |prepared, limits| {
+            assert!(applies(&prepared.task));
+            let mut stats = Stats::default();
+            let found = search(&prepared.task, limits, &|| false, &mut |_| {}, &mut stats);
+            let names = match &found {
+                Found::Plan(steps) => steps.iter().map(|s| prepared.task.show_op(s.op)).collect(),
+                _ => Vec::new(),
+            };
+            (found, names)
+        })
     }
 
     /// Runs `f` on the forward search's model of a fixture of
     /// `tests/planner`.
     fn with_forward(file: &str, f: impl FnOnce(&Forward<'_, '_>) + std::panic::UnwindSafe) {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/planner").join(file);
-        let text = std::fs::read_to_string(&path).expect("the fixture");
-        let mut host = crate::AnalysisHost::new();
-        let pf = host.set_file_text(file, text);
-        host.analysis()
-            .with_db(|db| {
-                let unit = crate::host::first_problem(db, pf).expect("a problem");
-                let config = Config::default();
-                let limits = PlannerLimits { nodes: Some(10_000), ..PlannerLimits::default() };
-                let prepared = prepare(db, unit, &config, &limits).ok().expect("prepared");
-                f(&Forward::new(&prepared.task));
-            })
-            .expect("not cancelled");
+        with_prepared(file, fixture(file), 10_000, |prepared, _| f(&Forward::new(&prepared.task)));
     }
 
     /// The successor index keys each operator by the positive `at start`
@@ -1509,29 +1509,21 @@ mod tests {
     /// best-first search alone on a fixture, up to `nodes` each: whether
     /// each found a sequence, and its expansions.
     fn both_on(file: &str, text: String, nodes: u64) -> [(bool, u64); 2] {
-        let mut host = crate::AnalysisHost::new();
-        let pf = host.set_file_text(file, text);
-        host.analysis()
-            .with_db(|db| {
-                let unit = crate::host::first_problem(db, pf).expect("a problem");
-                let config = Config::default();
-                let limits = PlannerLimits { nodes: Some(nodes), ..PlannerLimits::default() };
-                let prepared = prepare(db, unit, &config, &limits).ok().expect("prepared");
-                let fw = Forward::new(&prepared.task);
-                let mut x = fw.scratch();
-                let mut run = |ehc: bool| {
-                    let mut stats = Stats::default();
-                    let mut budget = Budget::new(&limits, &|| false, Instant::now());
-                    let found = if ehc {
-                        hill_climb(&fw, &mut x, &mut budget, &mut |_| {}, &mut stats)
-                    } else {
-                        Some(best_first(&fw, &mut x, &mut budget, &mut |_| {}, &mut stats))
-                    };
-                    (matches!(found, Some(Found::Plan(_))), stats.expanded)
+        with_prepared(file, text, nodes, |prepared, limits| {
+            let fw = Forward::new(&prepared.task);
+            let mut x = fw.scratch();
+            let mut run = |ehc: bool| {
+                let mut stats = Stats::default();
+                let mut budget = Budget::new(limits, &|| false, Instant::now());
+                let found = if ehc {
+                    hill_climb(&fw, &mut x, &mut budget, &mut |_| {}, &mut stats)
+                } else {
+                    Some(best_first(&fw, &mut x, &mut budget, &mut |_| {}, &mut stats))
                 };
-                [run(true), run(false)]
-            })
-            .expect("not cancelled")
+                (matches!(found, Some(Found::Plan(_))), stats.expanded)
+            };
+            [run(true), run(false)]
+        })
     }
 
     /// On a Rovers problem of 4,261 ground operators the enforced
