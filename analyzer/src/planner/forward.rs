@@ -835,10 +835,12 @@ impl Table {
         id
     }
 
-    /// Forgets the index (the states and their nodes stay): the states met
-    /// from now on may be met again.
-    fn forget(&mut self) {
+    /// Forgets the index but for state `id` (of hash `hash`): the states
+    /// and their nodes stay, and those met from now on may be met again.
+    fn forget_all_but(&mut self, id: u32, hash: u64) {
         self.by_hash.clear();
+        self.by_hash.insert(hash, id);
+        self.same[id as usize] = u32::MAX;
     }
 }
 
@@ -997,10 +999,7 @@ fn hill_climb(
             // Better: the breadth-first search starts again from here.
             cur_h = h;
             queue.clear();
-            table.forget();
-            let hash = Table::hash_of(&table.states[id as usize]);
-            table.by_hash.insert(hash, id);
-            table.same[id as usize] = u32::MAX;
+            table.forget_all_but(id, hash);
         }
         queue.extend(helpful.iter().map(|&k| (id, k)));
         stats.peak_open = stats.peak_open.max(queue.len());
