@@ -234,12 +234,24 @@ impl Search<'_, '_> {
         let n = points.len();
         // What must come before what (strictly: not forced to the same
         // time); an abstract step's end after its start.
+        // The closure's row of each point, read once ([`Stn::preceding`]:
+        // `before(x, y)` is bit `x` of `y`'s row): one call of
+        // [`Stn::before`] per pair, each through the orderings that wait,
+        // was most of the walk on plans of hundreds of steps.
+        let mut rows: Vec<u64> = Vec::new();
+        let width = p.stn.len().div_ceil(64);
+        let mut row = Vec::new();
+        for pt in &points {
+            p.stn.preceding(pt.tp, &mut row);
+            rows.extend_from_slice(&row);
+        }
+        let before = |x: &Point, y: usize| get(&rows[y * width..(y + 1) * width], x.tp as usize);
         let mut waits = vec![0u32; n];
         let mut blocks: Vec<Vec<u32>> = vec![Vec::new(); n];
         for (x, px) in points.iter().enumerate() {
             for (y, py) in points.iter().enumerate() {
                 let own = px.what == What::Opens && px.end == y;
-                if x != y && (own || p.stn.before(px.tp, py.tp) && !p.stn.before(py.tp, px.tp)) {
+                if x != y && (own || before(px, y) && !before(py, x)) {
                     blocks[x].push(y as u32);
                     waits[y] += 1;
                 }
