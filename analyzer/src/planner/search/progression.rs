@@ -234,12 +234,24 @@ impl Search<'_, '_> {
         let n = points.len();
         // What must come before what (strictly: not forced to the same
         // time); an abstract step's end after its start.
+        // The closure's row of each point, read once ([`Stn::preceding`]:
+        // `before(x, y)` is bit `x` of `y`'s row): one call of
+        // [`Stn::before`] per pair, each through the orderings that wait,
+        // was most of the walk on plans of hundreds of steps.
+        let mut rows: Vec<u64> = Vec::new();
+        let width = p.stn.len().div_ceil(64);
+        let mut row = Vec::new();
+        for pt in &points {
+            p.stn.preceding(pt.tp, &mut row);
+            rows.extend_from_slice(&row);
+        }
+        let before = |x: &Point, y: usize| get(&rows[y * width..(y + 1) * width], x.tp as usize);
         let mut waits = vec![0u32; n];
         let mut blocks: Vec<Vec<u32>> = vec![Vec::new(); n];
         for (x, px) in points.iter().enumerate() {
             for (y, py) in points.iter().enumerate() {
                 let own = px.what == What::Opens && px.end == y;
-                if x != y && (own || p.stn.before(px.tp, py.tp) && !p.stn.before(py.tp, px.tp)) {
+                if x != y && (own || before(px, y) && !before(py, x)) {
                     blocks[x].push(y as u32);
                     waits[y] += 1;
                 }
@@ -256,7 +268,18 @@ impl Search<'_, '_> {
             set(&mut state.value, i, holds);
         }
         let mut done = vec![0u64; n.div_ceil(64)];
-        let mut seen: FxHashSet<(Vec<u64>, State)> = FxHashSet::default();
+        // The points not run that wait for nothing left (kept as points
+        // run and are undone: a scan of every point at each prefix cost
+        // the walk a time quadratic in the plan's size).
+        let mut free = vec![0u64; n.div_ceil(64)];
+        for (i, &w) in waits.iter().enumerate() {
+            set(&mut free, i, w == 0);
+        }
+        let mut run_count = 0usize;
+        // The prefixes seen: the points run and the state's known atoms and
+        // values (how many open abstract steps may change each atom follows
+        // from the points run).
+        let mut seen: FxHashSet<Vec<u64>> = FxHashSet::default();
         // The committed steps count as they did when the walk went through
         // them, one prefix each.
         let committed = front.map_or(0, |v| v.committed);
@@ -273,45 +296,46 @@ impl Search<'_, '_> {
         // The prefix at hand: `Err(true)` when it may lead to a plan (or
         // the walk gives up), `Err(false)` when it was seen already, else
         // the points that may come next (none: a dead end).
-        let mut visit = |state: &State, done: &[u64], waits: &[u32], budget: &mut usize| {
+        let mut visit = |state: &State, done: &[u64], free: &[u64], run_count: usize, budget: &mut usize| {
             if *budget == 0 {
                 return Err(true);
             }
             *budget -= 1;
-            if !seen.insert((done.to_vec(), state.clone())) {
+            let mut key = Vec::with_capacity(done.len() + 2 * state.known.len());
+            key.extend_from_slice(done);
+            key.extend_from_slice(&state.known);
+            key.extend_from_slice(&state.value);
+            if !seen.insert(key) {
                 return Err(false);
             }
-            let mut next = Vec::new();
-            let (mut left, mut free) = (false, false);
-            for (i, pt) in points.iter().enumerate() {
-                if get(done, i) {
-                    continue;
-                }
-                left = true;
-                if waits[i] > 0 {
-                    continue;
-                }
-                free = true;
-                match pt.what {
-                    // Opening an abstract step early only makes less
-                    // known, and what waits for it free sooner: at once.
-                    What::Opens => return Ok(vec![i as u32]),
-                    // A step without effects that can run changes
-                    // nothing and only frees what waits for it: at once.
-                    What::Step if pt.effs.is_empty() && state.allows(&pt.conds) => {
-                        return Ok(vec![i as u32]);
-                    }
-                    What::Step if !state.allows(&pt.conds) => {}
-                    _ => next.push(i as u32),
-                }
-            }
-            if !left || !free {
+            if run_count == n || free.iter().all(|&w| w == 0) {
                 // Every point run, or points forced to the same time only.
                 return Err(true);
             }
+            let mut next = Vec::new();
+            for (k, &word) in free.iter().enumerate() {
+                let mut bits = word;
+                while bits != 0 {
+                    let i = k * 64 + bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let pt = &points[i];
+                    match pt.what {
+                        // Opening an abstract step early only makes less
+                        // known, and what waits for it free sooner: at once.
+                        What::Opens => return Ok(vec![i as u32]),
+                        // A step without effects that can run changes
+                        // nothing and only frees what waits for it: at once.
+                        What::Step if pt.effs.is_empty() && state.allows(&pt.conds) => {
+                            return Ok(vec![i as u32]);
+                        }
+                        What::Step if !state.allows(&pt.conds) => {}
+                        _ => next.push(i as u32),
+                    }
+                }
+            }
             Ok(next)
         };
-        match visit(&state, &done, &waits, &mut budget) {
+        match visit(&state, &done, &free, run_count, &mut budget) {
             Err(alive) => return !alive,
             Ok(next) => stack.push(Level { next, at: 0, ran: None, before: state.clone() }),
         }
@@ -319,9 +343,12 @@ impl Search<'_, '_> {
             let Some(top) = stack.last_mut() else { return true };
             if let Some(r) = top.ran.take() {
                 set(&mut done, r as usize, false);
+                run_count -= 1;
                 for &y in &blocks[r as usize] {
                     waits[y as usize] += 1;
+                    set(&mut free, y as usize, false);
                 }
+                set(&mut free, r as usize, waits[r as usize] == 0);
                 state.clone_from(&top.before);
             }
             if top.at == top.next.len() {
@@ -332,11 +359,14 @@ impl Search<'_, '_> {
             top.at += 1;
             top.ran = Some(r);
             set(&mut done, r as usize, true);
+            run_count += 1;
+            set(&mut free, r as usize, false);
             for &y in &blocks[r as usize] {
                 waits[y as usize] -= 1;
+                set(&mut free, y as usize, waits[y as usize] == 0 && !get(&done, y as usize));
             }
             state.run(&points[r as usize]);
-            match visit(&state, &done, &waits, &mut budget) {
+            match visit(&state, &done, &free, run_count, &mut budget) {
                 Err(true) => return false,
                 Err(false) => {}
                 Ok(next) => stack.push(Level { next, at: 0, ran: None, before: state.clone() }),
