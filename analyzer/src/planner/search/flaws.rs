@@ -13,6 +13,7 @@ use super::super::numeric;
 use super::super::plan::{Kind, Open, OpenOrigin, Plan, Threat};
 use super::super::stn::{EPS, Tp};
 use super::super::task::atom_of;
+use super::progression::get;
 use super::{Flaw, Search};
 
 impl Search<'_, '_> {
@@ -396,9 +397,8 @@ impl Waiting {
                 return false;
             }
             // Not `before(o.need, start)`: bit `need` of the start's row.
-            let row = &self.rows[at..at + width];
             a != o.step
-                && row[need / 64] >> (need % 64) & 1 == 0
+                && !get(&self.rows[at..at + width], need)
                 && search.h.may_add(op, o.lit)
                 && !p.descends(o.step, a)
         })

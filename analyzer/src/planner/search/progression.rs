@@ -79,8 +79,9 @@ struct Point {
     end: usize,
 }
 
-/// Bit sets over the walk's atoms and points.
-fn get(bits: &[u64], i: usize) -> bool {
+/// Bit sets over the walk's atoms and points (and the closure's rows read
+/// by [`super::flaws`]).
+pub(super) fn get(bits: &[u64], i: usize) -> bool {
     bits[i / 64] >> (i % 64) & 1 == 1
 }
 
