@@ -177,6 +177,13 @@ struct Forward<'a, 'db> {
     /// Per local operator: it has numeric conditions.
     numeric: Vec<bool>,
     add: Lists,
+    /// Per local operator: what it uses up of the resources that
+    /// conditions want high (`(decrease (energy ?r) 8)` where a condition
+    /// reads `(>= (energy ?r) 8)`), as (resource, amount).
+    uses: Vec<Vec<(u32, f64)>>,
+    /// Per resource: the numeric fact of a condition that wants it high
+    /// (made by its producers, `recharge`); `FAR`: none.
+    producer: Vec<u32>,
     /// Per literal fact: the local operators that need it; `no_pre`: the
     /// local operators that need none.
     consumers: Lists,
@@ -245,6 +252,10 @@ struct Scratch {
     heap: BinaryHeap<Reverse<(u32, u32)>>,
     ready: Vec<(u32, u32)>,
     stack: Vec<u32>,
+    /// Per resource: what the relaxed plan uses up of it (`used_res`: the
+    /// resources with some), zero between calls.
+    used: Vec<f64>,
+    used_res: Vec<u32>,
 }
 
 /// An operator in the relaxation: its work, valid when `stamp` is the
@@ -386,6 +397,7 @@ impl<'a, 'db> Forward<'a, 'db> {
                 add[h as usize].push(*id);
             }
         }
+        let (uses, producer) = uses_and_producers(task, &ops, &num_pre);
         let no_pre = (0..ops.len() as u32).filter(|&k| pre[k as usize].is_empty()).collect();
         let mut pos_fact = vec![FAR; n_atoms];
         let mut neg_facts = Vec::new();
@@ -414,6 +426,8 @@ impl<'a, 'db> Forward<'a, 'db> {
             pre,
             num_pre,
             add,
+            uses,
+            producer,
             consumers,
             goals,
             goal_lits,
@@ -452,6 +466,8 @@ impl<'a, 'db> Forward<'a, 'db> {
             heap: BinaryHeap::new(),
             ready: Vec::new(),
             stack: Vec::new(),
+            used: vec![0.0; self.task.numeric.keys.len()],
+            used_res: Vec::new(),
         }
     }
 
@@ -725,26 +741,105 @@ impl<'a, 'db> Forward<'a, 'db> {
         stack.clear();
         stack.extend(self.goals.iter().copied().filter(|&g| x.cost[g as usize] > 0));
         let mut h = 0;
-        while let Some(f) = stack.pop() {
-            if std::mem::replace(&mut x.marked_fact[f as usize], mark) == mark {
-                continue;
+        let mut used_res = std::mem::take(&mut x.used_res);
+        used_res.clear();
+        let mut adjusted = false;
+        loop {
+            while let Some(f) = stack.pop() {
+                if std::mem::replace(&mut x.marked_fact[f as usize], mark) == mark {
+                    continue;
+                }
+                let k = x.achiever[f as usize];
+                if std::mem::replace(&mut x.marked_op[k as usize], mark) == mark {
+                    continue;
+                }
+                h += 1;
+                if x.work[k as usize].cost == 1 {
+                    helpful.push(k);
+                }
+                stack.extend(self.pre.get(k as usize).iter().copied().filter(|&p| x.cost[p as usize] > 0));
+                if self.numeric[k as usize] {
+                    stack.extend(x.unmet[k as usize].iter().copied());
+                }
+                for &(res, amount) in &self.uses[k as usize] {
+                    if x.used[res as usize] == 0.0 {
+                        used_res.push(res);
+                    }
+                    x.used[res as usize] += amount;
+                }
             }
-            let k = x.achiever[f as usize];
-            if std::mem::replace(&mut x.marked_op[k as usize], mark) == mark {
-                continue;
+            if adjusted || used_res.is_empty() {
+                break;
             }
-            h += 1;
-            if x.work[k as usize].cost == 1 {
-                helpful.push(k);
-            }
-            stack.extend(self.pre.get(k as usize).iter().copied().filter(|&p| x.cost[p as usize] > 0));
-            if self.numeric[k as usize] {
-                stack.extend(x.unmet[k as usize].iter().copied());
+            // The resources the relaxed plan uses up beyond what the state
+            // holds: their producer (`recharge`, and what it needs) joins
+            // the plan, once (the relaxation alone lets every `navigate` read
+            // the same energy; Sapa's resource adjustment, Do and
+            // Kambhampati 2003). A producer the relaxation did not reach
+            // counts one action.
+            adjusted = true;
+            for &res in &used_res {
+                let f = self.producer[res as usize];
+                let have = s.value(res).unwrap_or(0.0);
+                if x.used[res as usize] <= have + 1e-9 || f == FAR || x.marked_fact[f as usize] == mark {
+                    continue;
+                }
+                if x.fact_stamp[f as usize] == stamp {
+                    stack.push(f);
+                } else {
+                    h += 1;
+                }
             }
         }
+        for &res in &used_res {
+            x.used[res as usize] = 0.0;
+        }
+        x.used_res = used_res;
         x.stack = stack;
         Some(h)
     }
+}
+
+/// What each local operator uses up of the resources that some condition
+/// wants high (a constant `decrease`, or one read from fluents no action
+/// writes: `(decrease (fuel ?a) (* (distance ?c1 ?c2) (slow-burn ?a)))`),
+/// and per resource the numeric fact of such a condition (`FAR`: none).
+fn uses_and_producers(
+    task: &Task<'_>,
+    ops: &[u32],
+    num_pre: &[Vec<(u32, u32)>],
+) -> (Vec<Vec<(u32, f64)>>, Vec<u32>) {
+    const FAR_VALUE: f64 = 1e12;
+    const PROBE: f64 = 1000.0;
+    let num = &task.numeric;
+    let mut producer = vec![FAR; num.keys.len()];
+    for (k, np) in num_pre.iter().enumerate() {
+        let op = &task.ops[ops[k] as usize];
+        for &(ci, f) in np {
+            let c = &op.num_conds[ci as usize];
+            let wants_high = num.holds(task, c, Some(FAR_VALUE)) && !num.holds(task, c, Some(-FAR_VALUE));
+            if wants_high && producer[c.res as usize] == FAR {
+                producer[c.res as usize] = f;
+            }
+        }
+    }
+    let uses = ops
+        .iter()
+        .map(|&o| {
+            let op = &task.ops[o as usize];
+            op.num_effs
+                .iter()
+                .filter(|e| producer[e.res as usize] != FAR)
+                .filter_map(|e| {
+                    let a = num.apply(task, e, Some(0.0), op.duration)?;
+                    let b = num.apply(task, e, Some(PROBE), op.duration)?;
+                    let additive = ((b - PROBE) - a).abs() <= 1e-9 * (1.0 + a.abs());
+                    (additive && a < 0.0).then_some((e.res, -a))
+                })
+                .collect()
+        })
+        .collect();
+    (uses, producer)
 }
 
 /// The operators that may make numeric condition `c` hold where it does
@@ -1501,6 +1596,24 @@ mod tests {
                 let Some(next) = succ.iter().rev().find_map(|&k| fw.apply(&s, k)) else { break };
                 s = next.0;
             }
+        });
+    }
+
+    /// The rover has energy for one move and its goal is two moves away:
+    /// the relaxation lets both moves read the same 10 units, so its plan
+    /// uses up 16 and the recharge in the sun where the rover stands joins
+    /// it (3 actions, not 2), a helpful action of the initial state.
+    #[test]
+    fn a_relaxed_plan_that_uses_up_more_energy_than_the_rover_has_recharges() {
+        with_forward("recharge-duration-from-energy.pddl", |fw| {
+            let mut x = fw.scratch();
+            let mut helpful = Vec::new();
+            let h = fw.relaxed(&fw.initial(), &mut x, &mut helpful);
+            assert_eq!(h, Some(3));
+            let names: Vec<String> = helpful.iter().map(|&k| fw.task.show_op(fw.ops[k as usize])).collect();
+            assert!(names.iter().any(|n| n.contains("recharge")), "helpful: {names:?}");
+            // The work arrays are left as they were found: the same again.
+            assert_eq!(fw.relaxed(&fw.initial(), &mut x, &mut helpful), Some(3));
         });
     }
 
