@@ -29,8 +29,11 @@
 //!   fact that the actions whose effect on its fluent may make it hold
 //!   achieve: an increase for `(>= (fuel a) x)`, an assignment of a value
 //!   where it holds (`refuel` to capacity), any effect the analysis cannot
-//!   place (`helpers`). Helpful actions: the relaxed plan's actions
-//!   applicable in the state.
+//!   place (`helpers`). Where the relaxed plan uses up more of such a
+//!   resource than the state holds (every `navigate` of a relaxed plan
+//!   reads the same energy), a producer joins it (`recharge`, with what it
+//!   needs). Helpful actions: the relaxed plan's actions applicable in the
+//!   state.
 //! - **The plan** is turned into a partial-order plan by
 //!   `Prepared::forward`: the sequence, with its sequential
 //!   times, is the start plan of the partial-order search
