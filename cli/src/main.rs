@@ -214,11 +214,13 @@ struct PlanArgs {
     /// (geometric reasoning), `eager` (every threat as soon as it appears),
     /// `nolookahead` (A* without the greedy completion), `nosteps` (no open
     /// list ranked by plan size), `types` (position families of one key
-    /// type: the `at` of trucks), `refine`, `front` or `links` (in purely
-    /// hierarchical problems, refinements first, plans grown from their
-    /// front like a progression planner's, or links first only; by default
+    /// type: the `at` of trucks), `refine`, `front`, `greedy` or `links`
+    /// (in purely hierarchical problems, refinements first, plans grown
+    /// from their front like a progression planner's, the same with `h`
+    /// weighing 20 rather than 5, or links first only; by default
     /// refinements first for 8,192 expansions and a quarter of the time,
-    /// then from the front for a quarter, then links first), `forward` or
+    /// then from the front for a quarter, then greedily from the front for
+    /// a quarter, then links first), `forward` or
     /// `noforward` (in problems without a hierarchy, the forward phase, a
     /// progression search, first, or not at all; by default after the
     /// partial-order search's first quarter of the time), `bare`

@@ -108,6 +108,11 @@ pub struct Config {
     /// `front`: in a purely hierarchical problem, plans grow from their
     /// front, as in a progression planner (`search::front`).
     pub front: bool,
+    /// `greedy`: plans grown from their front (it implies `front`), with
+    /// `h` weighing 20 in `f` rather than 5 (`FRONT_GREEDY_WEIGHT` and
+    /// `FRONT_WEIGHT` in `search/front.rs`). The default sequence runs the
+    /// search from the front at both weights, one after the other.
+    pub greedy: bool,
     /// `forward`: in a problem without a hierarchy, the forward phase
     /// ([`forward`]) first, for the whole time; the partial-order search
     /// after it only when it finds no sequence. By default the
@@ -197,6 +202,7 @@ impl Config {
             refine: false,
             links: false,
             front: false,
+            greedy: false,
             forward: false,
             noforward: false,
         };
@@ -219,11 +225,15 @@ impl Config {
                 "refine" => c.refine = true,
                 "links" => c.links = true,
                 "front" => c.front = true,
+                "greedy" => {
+                    c.front = true;
+                    c.greedy = true;
+                }
                 "forward" => c.forward = true,
                 "noforward" => c.noforward = true,
                 other => {
                     return Err(format!(
-                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, refine, links, front, forward, noforward, bare)"
+                        "unknown part `{other}` in configuration `{name}` (expected AR, R, time, local, sorted, threatFirst, motion, ncm, eager, nolookahead, nosteps, types, refine, links, front, greedy, forward, noforward, bare)"
                     ));
                 }
             }
@@ -272,6 +282,9 @@ impl Config {
         }
         if self.front {
             parts.push("front");
+        }
+        if self.greedy {
+            parts.push("greedy");
         }
         if self.forward {
             parts.push("forward");
@@ -668,7 +681,8 @@ impl<'db> Prepared<'db> {
     /// at most [`REFINE_FIRST_NODES`] expansions and a quarter of the time,
     /// then, when the problem allows it ([`search::Search::grows_from_front`]),
     /// the search that grows plans from their front for another quarter,
-    /// then the search with links first for what is left. Each search that
+    /// and again with `greedy` (a heavier `h`) for a third quarter, then the
+    /// search with links first for what is left. Each search that
     /// stops at its own bound hands over to the next; one that ends
     /// otherwise (a plan, none at all, or the run's own limit) is the answer.
     fn refine_then_links(
@@ -683,7 +697,9 @@ impl<'db> Prepared<'db> {
         let front = Config { front: true, ..config.clone() };
         let mut phases = vec![(Config { refine: true, ..config.clone() }, Some(REFINE_FIRST_NODES))];
         if search::Search::grows_from_front(&self.task, &front) {
+            let greedy = Config { greedy: true, ..front.clone() };
             phases.push((front, None));
+            phases.push((greedy, None));
         }
         phases.push((Config { links: true, ..config.clone() }, None));
         let quarter = limits.time.map(|t| t.saturating_sub(limits.time_spent) / 4);

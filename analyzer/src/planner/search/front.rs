@@ -59,6 +59,18 @@ pub const FRONT_MAX_ACTIONS: usize = 20_000;
 /// expansions alone (docs/benchmarks.md, 2026-11-27).
 pub(super) const FRONT_WEIGHT: f64 = 5.0;
 
+/// The weight of `h` in `f` for plans grown from their front under the
+/// configuration part `greedy`, which the default sequence runs after the
+/// search at [`FRONT_WEIGHT`]. IPC 2020 Barman-BDI makes each cocktail by
+/// a long run of steps that the relaxed composition's estimate barely
+/// tells apart (which hand, which shot holds an ingredient), and at weight
+/// 5 the search goes back to shallower plans through every such choice:
+/// pfile03, 06 and 12 take 1,809, 1,952 and 5,816 expansions alone at 20,
+/// none within 20,000 at 5 (06, 11) or 10,000. It loses elsewhere
+/// (Transport pfile15: 1,681 expansions at 5, none in 10,000 at 10, 15 or
+/// 20), hence both (docs/benchmarks.md, 2026-11-28).
+pub(super) const FRONT_GREEDY_WEIGHT: f64 = 20.0;
+
 /// The state after the committed steps: for each atom a committed step
 /// writes, the last such step, its time point and the value it leaves.
 pub(super) struct Prefix {

@@ -376,11 +376,11 @@ impl<'a, 'db> Search<'a, 'db> {
     /// The weight of `h` in `f`: 2 (weighted A*) on a purely hierarchical
     /// problem, grounded top-down, where the decomposition's estimate
     /// tells refinements apart that the makespan so far does not
-    /// ([`front::FRONT_WEIGHT`] for plans grown from their front); 1 (A*)
-    /// otherwise.
+    /// ([`front::FRONT_WEIGHT`] for plans grown from their front,
+    /// [`front::FRONT_GREEDY_WEIGHT`] with `greedy`); 1 (A*) otherwise.
     fn weight(&self) -> f64 {
         if self.at_front() {
-            return front::FRONT_WEIGHT;
+            return if self.config.greedy { front::FRONT_GREEDY_WEIGHT } else { front::FRONT_WEIGHT };
         }
         if self.task.g.tdg_methods.is_some() { HTN_WEIGHT } else { 1.0 }
     }
