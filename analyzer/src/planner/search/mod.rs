@@ -178,9 +178,13 @@ struct Entry {
 /// by its siblings) and what supports the link ([`Made`]): an expansion of
 /// a plan of a hundred steps makes a hundred such children, a few
 /// kilobytes each as plans (the chunks of its steps, links and network
-/// that it wrote), of which one in a hundred is ever expanded. The one
-/// popped is made again and settled (its threats with one ordering left
-/// ordered, as when it was scored): the same plan.
+/// that it wrote), of which one in a hundred is ever expanded. A child of
+/// an abstract flaw likewise, as its parent, the abstract step and the
+/// method instance that refines it: a refinement writes the most (its
+/// subtasks' steps and time points, their orderings, the method's
+/// preconditions and the step's effects as open links). The one popped is
+/// made again and settled (its threats with one ordering left ordered, as
+/// when it was scored): the same plan.
 enum Child {
     /// Boxed: a plan is a few hundred bytes of spines and counters, ten
     /// times the rest of an entry.
@@ -417,15 +421,16 @@ impl<'a, 'db> Search<'a, 'db> {
         let mut made = Vec::new();
         match flaw {
             Flaw::Open(i) => self.open_resolvers_made(p, i, &mut children, &mut made),
+            Flaw::Abstract(i) => self.refinements_made(p, i, &mut children, &mut |m| made.push(m)),
             flaw => self.resolvers(p, flaw, &mut children),
         }
         self.scored_made(p, children, made, linking, stats, dead)
     }
 
-    /// The child of an open link `made` from `parent`, made again and
-    /// settled like [`Search::scored`] scored it: `None` if it does not
-    /// come out the same way (it always does: making and settling a plan
-    /// only read the parent and the task).
+    /// The child of an open link or of an abstract flaw `made` from
+    /// `parent`, made again and settled like [`Search::scored`] scored it:
+    /// `None` if it does not come out the same way (it always does: making
+    /// and settling a plan only read the parent and the task).
     fn remade(&self, parent: &Plan, made: Made) -> Option<Plan> {
         let mut c = self.remake(parent, made)?;
         self.settle(&mut c)?;
@@ -819,8 +824,8 @@ impl<'a, 'db> Search<'a, 'db> {
                     break End2::Limit(LimitKind::Memory);
                 }
             }
-            // The children of an open link are kept as their parent and how
-            // each was made ([`Child`]).
+            // The children of an open link or an abstract flaw are kept as
+            // their parent and how each was made ([`Child`]).
             let parent = scored.iter().any(|c| c.made.is_some()).then(|| Rc::new(plan));
             for c in scored {
                 if let Some(key) = c.key
@@ -866,7 +871,8 @@ struct Scored {
     effort: f64,
     /// Steps it added for an open link.
     added: usize,
-    /// How it was made, for an open link ([`Child::Made`]).
+    /// How it was made, for an open link or an abstract flaw
+    /// ([`Child::Made`]).
     made: Option<Made>,
     /// Grown from its front: its key ([`Search::front_key`]).
     key: Option<Box<[u32]>>,

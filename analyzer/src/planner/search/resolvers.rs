@@ -258,21 +258,7 @@ impl Search<'_, '_> {
                 }
             }
             Flaw::Open(i) => self.open_resolvers(p, i, out),
-            Flaw::Abstract(i) => {
-                let s = p.abstracts[i];
-                let Kind::Op(op) = p.steps[s as usize].kind else { return };
-                for &m in &self.task.ops[op as usize].methods {
-                    if self.only_loops(p, s, m) {
-                        self.loops.set(self.loops.get() + 1);
-                        continue;
-                    }
-                    let mut c = p.clone();
-                    std::rc::Rc::make_mut(&mut c.abstracts).remove(i);
-                    if self.refine(&mut c, s, m) {
-                        out.push(c);
-                    }
-                }
-            }
+            Flaw::Abstract(i) => self.refinements_made(p, i, out, &mut |_| {}),
             Flaw::Visit(b) => {
                 if let Some(geo) = &self.geo {
                     geo.extend(self.task, self.h, p, &b, out);
@@ -417,7 +403,7 @@ impl Search<'_, '_> {
             let by = By::Link(s, tp);
             if let Some(c) = self.made_by(base.clone(), &o, by) {
                 out.push(c);
-                made(Made { open: i as u32, by });
+                made(Made::Link { open: i as u32, by });
             }
         }
     }
@@ -450,7 +436,7 @@ impl Search<'_, '_> {
             let by = By::Step(op, at);
             if let Some(c) = self.made_by(base.clone(), &o, by) {
                 out.push(c);
-                made(Made { open: i as u32, by });
+                made(Made::Link { open: i as u32, by });
             }
         }
     }
@@ -460,6 +446,40 @@ impl Search<'_, '_> {
     pub(super) fn open_resolvers_made(&self, p: &Plan, i: usize, out: &mut Vec<Plan>, made: &mut Vec<Made>) {
         self.open_links_made(p, i, out, &mut |m| made.push(m));
         self.open_steps_made(p, i, out, &mut |m| made.push(m));
+    }
+
+    /// The refinements of the abstract step at index `i` of `p.abstracts`:
+    /// a child per method instance of its task that does not only go round
+    /// a loop ([`Search::only_loops`]) and whose network takes it, telling
+    /// `made` how each was made.
+    pub(super) fn refinements_made(
+        &self,
+        p: &Plan,
+        i: usize,
+        out: &mut Vec<Plan>,
+        made: &mut dyn FnMut(Made),
+    ) {
+        let s = p.abstracts[i];
+        let Kind::Op(op) = p.steps[s as usize].kind else { return };
+        for &m in &self.task.ops[op as usize].methods {
+            if self.only_loops(p, s, m) {
+                self.loops.set(self.loops.get() + 1);
+                continue;
+            }
+            if let Some(c) = self.refined(p, i, m) {
+                out.push(c);
+                made(Made::Refined { at: i as u32, method: m });
+            }
+        }
+    }
+
+    /// `p` with the abstract step at index `i` of `p.abstracts` refined by
+    /// method instance `m`: `None` when the network refuses it.
+    fn refined(&self, p: &Plan, i: usize, m: u32) -> Option<Plan> {
+        let s = p.abstracts[i];
+        let mut c = p.clone();
+        std::rc::Rc::make_mut(&mut c.abstracts).remove(i);
+        self.refine(&mut c, s, m).then_some(c)
     }
 
     /// `base` (a plan without open link `o`) with `o` solved `by` a causal
@@ -476,15 +496,27 @@ impl Search<'_, '_> {
         base.add_link(self.task, s, tp, o).then_some(base)
     }
 
-    /// The child of `parent` that [`Search::open_resolvers_made`] made as
-    /// `made`, made again: the same plan, not scored yet.
+    /// The child of `parent` that [`Search::open_resolvers_made`] or
+    /// [`Search::refinements_made`] made as `made`, made again: the same
+    /// plan, not scored yet.
     pub(super) fn remake(&self, parent: &Plan, made: Made) -> Option<Plan> {
-        let i = made.open as usize;
-        if i >= parent.open.len() {
-            return None;
+        match made {
+            Made::Link { open, by } => {
+                let i = open as usize;
+                if i >= parent.open.len() {
+                    return None;
+                }
+                let (base, o) = Self::without_open(parent, i);
+                self.made_by(base, &o, by)
+            }
+            Made::Refined { at, method } => {
+                let i = at as usize;
+                if i >= parent.abstracts.len() {
+                    return None;
+                }
+                self.refined(parent, i, method)
+            }
         }
-        let (base, o) = Self::without_open(parent, i);
-        self.made_by(base, &o, made.by)
     }
 
     /// Refines abstract step `s` with method instance `m`: its subtasks as
@@ -560,13 +592,15 @@ impl Search<'_, '_> {
     }
 }
 
-/// How a child of an open link was made from its parent: enough to make it
-/// again ([`Search::remake`]).
+/// How a child of an open link or of an abstract flaw was made from its
+/// parent: enough to make it again ([`Search::remake`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct Made {
-    /// The open link, by index in the parent's.
-    pub(super) open: u32,
-    pub(super) by: By,
+pub(super) enum Made {
+    /// The open link at this index of the parent's, supported `by`.
+    Link { open: u32, by: By },
+    /// The abstract step at index `at` of the parent's `abstracts`,
+    /// refined by method instance `method`.
+    Refined { at: u32, method: u32 },
 }
 
 /// What supports the open link of a [`Made`] child.
@@ -759,9 +793,9 @@ mod tests {
                         p.stn.flush();
                         p.stn.defer();
                         let Some(flaw) = search.select(&mut p) else { continue };
-                        let linking = matches!(flaw, Flaw::Open(_));
+                        let recipe = matches!(flaw, Flaw::Open(_) | Flaw::Abstract(_));
                         for c in search.expand(&p, flaw, &mut stats, &mut |_| {}) {
-                            assert_eq!(c.made.is_some(), linking);
+                            assert_eq!(c.made.is_some(), recipe);
                             if let Some(how) = c.made {
                                 let again = search.remade(&p, how).expect("made again");
                                 assert!(same(&again, &c.plan), "{how:?}");
@@ -778,6 +812,82 @@ mod tests {
                 // mattered for some (a threat ordered in place).
                 assert!(made >= 10, "{made}");
                 assert!(settled > 0);
+            },
+        )
+    }
+
+    /// Two tasks that each spend the one token, unordered, the first by
+    /// spending it or by minting one first: refinements whose new steps
+    /// threaten the other task's link.
+    const TOKEN_HTN: &str = "(define (domain token-htn)
+  (:requirements :hierarchy :negative-preconditions)
+  (:predicates (token) (a) (b))
+  (:task both :parameters ())
+  (:task get-a :parameters ())
+  (:task get-b :parameters ())
+  (:method both-any :parameters () :task (both) :subtasks (and (get-a) (get-b)))
+  (:method a-spend :parameters () :task (get-a) :ordered-subtasks (and (spend-a)))
+  (:method a-mint :parameters () :task (get-a) :ordered-subtasks (and (mint) (spend-a)))
+  (:method b-spend :parameters () :task (get-b) :ordered-subtasks (and (spend-b)))
+  (:action spend-a :parameters () :precondition (token) :effect (and (not (token)) (a)))
+  (:action spend-b :parameters () :precondition (token) :effect (and (not (token)) (b)))
+  (:action mint :parameters () :effect (token)))";
+
+    /// The search keeps the children of an abstract flaw as their parent,
+    /// the abstract step and the method instance: made again and settled,
+    /// each is the plan that was scored (and the same as the plan the
+    /// resolvers make), at every level of the search.
+    #[test]
+    fn a_refinement_made_again_is_the_plan_scored() {
+        let problem = "(define (problem p) (:domain token-htn)
+  (:htn :subtasks (and (both))) (:init (token)))";
+        // Links first: a task's `spend` is linked to its token before the
+        // other task is refined.
+        let links = super::super::super::Config { links: true, ..Default::default() };
+        super::super::test_support::with_search_as(
+            links,
+            ("domain.hddl", "problem.hddl"),
+            TOKEN_HTN,
+            problem,
+            |_, search| {
+                let mut stats = Stats::default();
+                let mut level = search.initial();
+                let (mut refined, mut linked, mut threatened) = (0, 0, 0);
+                for _ in 0..12 {
+                    let mut next = Vec::new();
+                    for mut p in level {
+                        p.stn.flush();
+                        p.stn.defer();
+                        let Some(flaw) = search.select(&mut p) else { continue };
+                        let mut eager = Vec::new();
+                        if let Flaw::Abstract(i) = flaw {
+                            search.resolvers(&p, Flaw::Abstract(i), &mut eager);
+                        }
+                        let abstract_flaw = !eager.is_empty();
+                        for c in search.expand(&p, flaw, &mut stats, &mut |_| {}) {
+                            assert_eq!(abstract_flaw, matches!(c.made, Some(super::Made::Refined { .. })));
+                            if let Some(how) = c.made {
+                                let again = search.remade(&p, how).expect("made again");
+                                assert!(same(&again, &c.plan), "{how:?}");
+                                let unsettled = search.remake(&p, how).expect("made again");
+                                if abstract_flaw {
+                                    assert!(eager.iter().any(|e| same(e, &unsettled)), "{how:?}");
+                                    threatened += usize::from(!c.plan.threats.is_empty());
+                                    refined += 1;
+                                } else {
+                                    linked += 1;
+                                }
+                            }
+                            next.push(c.plan);
+                        }
+                    }
+                    level = next;
+                }
+                // Every method of each task, in both orders of the tasks;
+                // and refinements with threats left to settle.
+                assert!(refined >= 5, "{refined}");
+                assert!(linked > 0);
+                assert!(threatened > 0);
             },
         )
     }
