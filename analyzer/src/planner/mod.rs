@@ -717,7 +717,10 @@ impl<'db> Prepared<'db> {
                     (n, b) => n.or(b),
                 };
                 let time = limits.time.zip(quarter).map(|(t, q)| (spent + q).min(t));
-                PlannerLimits { time_spent: spent, nodes, time, ..limits.clone() }
+                // A search that hands over frees its open lists: the
+                // process goes on (left to the exit, those of the first
+                // three searches were all held by the last).
+                PlannerLimits { time_spent: spent, nodes, time, exits_after: false, ..limits.clone() }
             };
             // The reports count the expansions of every search.
             let done = before.expanded;
