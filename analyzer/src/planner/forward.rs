@@ -45,6 +45,7 @@
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+use std::hash::Hasher;
 use std::time::Instant;
 
 use rustc_hash::FxHashMap;
@@ -172,23 +173,32 @@ struct Forward<'a, 'db> {
     /// testing every fact).
     pos_fact: Vec<u32>,
     neg_facts: Vec<u32>,
-    /// Per local operator: the literal facts it needs, the numeric
-    /// conditions it needs at its start (index in its operator's
-    /// `num_conds`, and their fact), the facts it adds.
+    /// The relaxation's operators ([`Relaxed`]): local operators, the
+    /// stand-ins of groups of them ([`Group`]) and the links of the facts
+    /// that hold when any of a set does. Per relaxed operator: the facts
+    /// it needs, the numeric conditions it needs at its start (index in
+    /// its local operator's `num_conds`, and their fact), the facts it
+    /// adds.
     pre: Lists,
     num_pre: Vec<Vec<(u32, u32)>>,
-    /// Per local operator: it has numeric conditions.
+    /// Per relaxed operator: it has numeric conditions.
     numeric: Vec<bool>,
     add: Lists,
-    /// Per local operator: what it uses up of the resources that
+    /// Per relaxed operator: what it uses up of the resources that
     /// conditions want high (`(decrease (energy ?r) 8)` where a condition
     /// reads `(>= (energy ?r) 8)`), as (resource, amount).
     uses: Vec<Vec<(u32, f64)>>,
     /// Per resource: the numeric fact of a condition that wants it high
     /// (made by its producers, `recharge`); `FAR`: none.
     producer: Vec<u32>,
-    /// Per literal fact: the local operators that need it; `no_pre`: the
-    /// local operators that need none.
+    /// Per relaxed operator: what it stands for.
+    relaxed_of: Vec<Relaxed>,
+    groups: Vec<Group>,
+    /// The numeric facts (after the literal ones; the facts "any of a
+    /// set" come after them).
+    num_facts: std::ops::Range<u32>,
+    /// Per fact: the relaxed operators that need it; `no_pre`: the
+    /// relaxed operators that need none.
     consumers: Lists,
     no_pre: Vec<u32>,
     goals: Vec<u32>,
@@ -222,6 +232,176 @@ impl Lists {
     fn len_of(&self, i: usize) -> u32 {
         self.starts[i + 1] - self.starts[i]
     }
+}
+
+/// What an operator of the relaxation stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Relaxed {
+    /// A local operator.
+    Op(u32),
+    /// The operators of a [`Group`], by index: it needs their common
+    /// facts and the group's fact "any of", adds what they add, and is
+    /// one action of a relaxed plan, the one whose own fact is the
+    /// cheapest.
+    Group(u32),
+    /// A link: it needs one fact of a set and adds the fact "any of" the
+    /// set, at no cost (no action of a relaxed plan).
+    Any,
+}
+
+/// Local operators that need the same facts but one each and add the same
+/// facts (DriverLog's `drive-truck` of a truck between two places, one
+/// per driver: 20 where the condition that differs is `(driving ?d
+/// ?truck)`): to the relaxation they are one operator that needs "any of"
+/// their own facts (shared by the groups of every pair of places), which
+/// costs the cheapest of them. The estimates and relaxed plans are those
+/// of the operators one by one (up to ties), through a twentieth of them.
+struct Group {
+    /// The fact "any of" the members' facts.
+    any: u32,
+    /// The members: their own fact and local operator, by fact.
+    members: Vec<(u32, u32)>,
+}
+
+/// The ground operators from which the relaxation groups operators
+/// ([`Group`]): where its cost per state is what the search spends
+/// (DriverLog's hand-coded problems, 100,000 and more). Below, the ties
+/// of the relaxed plans stay those of the operators one by one: on Rovers
+/// `time-simple` hand-coded 10 (4,261 operators, its communications
+/// grouped by the rover's place) the hill-climbing, whose relaxed plans
+/// then break ties otherwise, needed more than 1,000 states (818).
+const GROUP_FROM: usize = 50_000;
+
+/// The smallest group worth its links: a set "any of" is kept when the
+/// operators of its groups outnumber its links and the groups' stand-ins.
+const MIN_GROUP: usize = 2;
+
+/// The relaxation's operators: the local operators' facts needed
+/// (`pre`), added (`add`) and numeric conditions (`num_pre`), with groups
+/// of them made one ([`Group`]). Returns the relaxed operators' lists,
+/// what each stands for, the groups, and the number of facts with the
+/// facts "any of" (from `n_facts`).
+#[allow(clippy::type_complexity)]
+fn group_operators(
+    pre: Vec<Vec<u32>>,
+    add: Vec<Vec<u32>>,
+    num_pre: Vec<Vec<(u32, u32)>>,
+    n_facts: usize,
+    grouping: bool,
+) -> (Vec<Vec<u32>>, Vec<Vec<u32>>, Vec<Vec<(u32, u32)>>, Vec<Relaxed>, Vec<Group>, usize) {
+    let n = pre.len();
+    // Candidate groups: by the facts added and the facts needed but one,
+    // sorted by the hash of these (a vector of them per operator and
+    // condition held 90 MB more on Depots `time-simple` hand-coded 2), the
+    // operators of one hash then compared.
+    let key_of = |k: usize, own: u32| -> Vec<u32> {
+        let mut key = add[k].clone();
+        key.push(FAR);
+        key.extend(pre[k].iter().copied().filter(|&f| f != own));
+        key
+    };
+    let mut by_hash: Vec<(u64, u32, u32)> = Vec::new();
+    for k in 0..n {
+        if !grouping || !num_pre[k].is_empty() || pre[k].is_empty() {
+            continue;
+        }
+        for &own in &pre[k] {
+            let mut h = rustc_hash::FxHasher::default();
+            for &f in add[k].iter().chain([FAR].iter()).chain(pre[k].iter().filter(|&&f| f != own)) {
+                h.write_u32(f);
+            }
+            by_hash.push((h.finish(), own, k as u32));
+        }
+    }
+    by_hash.sort_unstable();
+    let mut cands: Vec<(Vec<u32>, Vec<(u32, u32)>)> = Vec::new();
+    for run in by_hash.chunk_by(|a, b| a.0 == b.0).filter(|r| r.len() >= MIN_GROUP) {
+        let mut left: Vec<(u32, u32)> = run.iter().map(|e| (e.1, e.2)).collect();
+        while left.len() >= MIN_GROUP {
+            let key = key_of(left[0].1 as usize, left[0].0);
+            let (mut m, rest): (Vec<_>, Vec<_>) =
+                left.into_iter().partition(|e| key_of(e.1 as usize, e.0) == key);
+            left = rest;
+            // Operators that need and add the same facts are one to the
+            // relaxation: the first (the others stay as they are).
+            m.dedup_by_key(|e| e.0);
+            if m.len() >= MIN_GROUP {
+                cands.push((key, m));
+            }
+        }
+    }
+    // What each set "any of" would save: the operators of its groups, less
+    // its links and the stand-ins.
+    let set_of = |m: &[(u32, u32)]| -> Vec<u32> { m.iter().map(|e| e.0).collect() };
+    let mut gain: FxHashMap<Vec<u32>, i64> = FxHashMap::default();
+    for (_, m) in &cands {
+        let g = gain.entry(set_of(m)).or_insert(-(m.len() as i64));
+        *g += m.len() as i64 - 1;
+    }
+    cands.sort_by_cached_key(|(key, m)| (Reverse(gain[&set_of(m)]), Reverse(m.len()), key.clone()));
+    let mut taken = vec![false; n];
+    let mut chosen: Vec<(Vec<u32>, Vec<(u32, u32)>)> = Vec::new();
+    for (key, m) in cands {
+        if gain[&set_of(&m)] <= 0 || m.iter().any(|e| taken[e.1 as usize]) {
+            continue;
+        }
+        for e in &m {
+            taken[e.1 as usize] = true;
+        }
+        chosen.push((key, m));
+    }
+    let mut r_pre = Vec::with_capacity(n);
+    let mut r_add = Vec::with_capacity(n);
+    let mut r_num = Vec::with_capacity(n);
+    let mut relaxed_of = Vec::with_capacity(n);
+    let mut in_group = vec![false; n];
+    for (_, m) in &chosen {
+        for e in m {
+            in_group[e.1 as usize] = true;
+        }
+    }
+    // Operators not in a group, as they are (a duplicate of a member,
+    // left out of its group, stays).
+    for (k, ((p, a), np)) in pre.into_iter().zip(add).zip(num_pre).enumerate() {
+        if in_group[k] {
+            continue;
+        }
+        r_pre.push(p);
+        r_add.push(a);
+        r_num.push(np);
+        relaxed_of.push(Relaxed::Op(k as u32));
+    }
+    let mut any_of: FxHashMap<Vec<u32>, u32> = FxHashMap::default();
+    let mut n_facts = n_facts;
+    let mut groups = Vec::with_capacity(chosen.len());
+    for (key, m) in chosen {
+        let set = set_of(&m);
+        let any = match any_of.get(&set) {
+            Some(&f) => f,
+            None => {
+                let f = n_facts as u32;
+                n_facts += 1;
+                for &member in &set {
+                    r_pre.push(vec![member]);
+                    r_add.push(vec![f]);
+                    r_num.push(Vec::new());
+                    relaxed_of.push(Relaxed::Any);
+                }
+                any_of.insert(set, f);
+                f
+            }
+        };
+        let split = key.iter().position(|&f| f == FAR).unwrap_or(key.len());
+        let mut p: Vec<u32> = key[split + 1..].to_vec();
+        p.push(any);
+        p.sort_unstable();
+        r_pre.push(p);
+        r_add.push(key[..split].to_vec());
+        r_num.push(Vec::new());
+        relaxed_of.push(Relaxed::Group(groups.len() as u32));
+        groups.push(Group { any, members: m });
+    }
+    (r_pre, r_add, r_num, relaxed_of, groups, n_facts)
 }
 
 /// The work arrays of the relaxed plans: a fact's cost and achiever, an
@@ -284,8 +464,17 @@ struct OpWork {
 /// In [`OpWork::info`]: the operator has numeric conditions.
 const NUMERIC: u32 = 1 << 31;
 
+/// In [`OpWork::info`]: the operator costs nothing ([`Relaxed::Any`]).
+const FREE: u32 = 1 << 30;
+
 impl<'a, 'db> Forward<'a, 'db> {
     fn new(task: &'a Task<'db>) -> Forward<'a, 'db> {
+        Forward::build(task, task.ops.len() >= GROUP_FROM)
+    }
+
+    /// The forward search's model of `task`, its relaxation with groups
+    /// of operators made one ([`Group`]) or not.
+    fn build(task: &'a Task<'db>, grouping: bool) -> Forward<'a, 'db> {
         let ops: Vec<u32> = (0..task.ops.len() as u32)
             .filter(|&o| {
                 let op = &task.ops[o as usize];
@@ -362,12 +551,6 @@ impl<'a, 'db> Forward<'a, 'db> {
                 a
             })
             .collect();
-        let mut consumers = vec![Vec::new(); n_lits];
-        for (k, p) in pre.iter().enumerate() {
-            for &f in p {
-                consumers[f as usize].push(k as u32);
-            }
-        }
         // The numeric facts: one per resource and set of operators that
         // may make a condition on it hold.
         let local: FxHashMap<u32, u32> = ops.iter().enumerate().map(|(k, &o)| (o, k as u32)).collect();
@@ -401,7 +584,26 @@ impl<'a, 'db> Forward<'a, 'db> {
             }
         }
         let (uses, producer) = uses_and_producers(task, &ops, &num_pre);
-        let no_pre = (0..ops.len() as u32).filter(|&k| pre[k as usize].is_empty()).collect();
+        let num_facts = n_lits as u32..n_facts as u32;
+        let (pre, add, num_pre, relaxed_of, groups, n_facts) =
+            group_operators(pre, add, num_pre, n_facts, grouping);
+        // What a relaxed operator uses up: its local operator's; a group's,
+        // its first member's (the members differ by a condition only).
+        let uses = relaxed_of
+            .iter()
+            .map(|r| match *r {
+                Relaxed::Op(k) => uses[k as usize].clone(),
+                Relaxed::Group(g) => uses[groups[g as usize].members[0].1 as usize].clone(),
+                Relaxed::Any => Vec::new(),
+            })
+            .collect();
+        let mut consumers = vec![Vec::new(); n_facts];
+        for (k, p) in pre.iter().enumerate() {
+            for &f in p {
+                consumers[f as usize].push(k as u32);
+            }
+        }
+        let no_pre = (0..pre.len() as u32).filter(|&k| pre[k as usize].is_empty()).collect();
         let mut pos_fact = vec![FAR; n_atoms];
         let mut neg_facts = Vec::new();
         for (f, &l) in fact_lit.iter().enumerate() {
@@ -431,6 +633,9 @@ impl<'a, 'db> Forward<'a, 'db> {
             add,
             uses,
             producer,
+            relaxed_of,
+            groups,
+            num_facts,
             consumers,
             goals,
             goal_lits,
@@ -441,16 +646,18 @@ impl<'a, 'db> Forward<'a, 'db> {
         Scratch {
             stamp: 0,
             fact_stamp: vec![0; self.n_facts],
-            work: (0..self.ops.len())
+            work: (0..self.relaxed_of.len())
                 .map(|k| {
                     let add = self.add.get(k);
                     let mut inline = [FAR; 2];
                     if add.len() <= 2 {
                         inline[..add.len()].copy_from_slice(add);
                     }
+                    let flags = if self.numeric[k] { NUMERIC } else { 0 }
+                        | if self.relaxed_of[k] == Relaxed::Any { FREE } else { 0 };
                     OpWork {
                         npre: self.pre.len_of(k),
-                        info: add.len() as u32 | if self.numeric[k] { NUMERIC } else { 0 },
+                        info: add.len() as u32 | flags,
                         add: inline,
                         ..OpWork::default()
                     }
@@ -458,12 +665,12 @@ impl<'a, 'db> Forward<'a, 'db> {
                 .collect(),
             cost: vec![FAR; self.n_facts],
             achiever: vec![FAR; self.n_facts],
-            waiting: vec![0; self.ops.len()],
-            unmet: vec![Vec::new(); self.ops.len()],
+            waiting: vec![0; self.relaxed_of.len()],
+            unmet: vec![Vec::new(); self.relaxed_of.len()],
             touched: Vec::new(),
             waiters: vec![Vec::new(); self.n_facts],
             waited: Vec::new(),
-            marked_op: vec![0; self.ops.len()],
+            marked_op: vec![0; self.relaxed_of.len()],
             marked_fact: vec![0; self.n_facts],
             done_stamp: vec![0; self.n_facts],
             heap: BinaryHeap::new(),
@@ -641,7 +848,10 @@ impl<'a, 'db> Forward<'a, 'db> {
                 let mut extra = 0u32;
                 let w = x.work[k as usize];
                 if w.info & NUMERIC != 0 {
-                    let op = &self.task.ops[self.ops[k as usize] as usize];
+                    let Relaxed::Op(local) = self.relaxed_of[k as usize] else {
+                        unreachable!("grouped numeric")
+                    };
+                    let op = &self.task.ops[self.ops[local as usize] as usize];
                     let mut unmet = std::mem::take(&mut x.unmet[k as usize]);
                     let mut waiting = Vec::new();
                     for &(ci, f) in &self.num_pre[k as usize] {
@@ -675,9 +885,9 @@ impl<'a, 'db> Forward<'a, 'db> {
                         continue;
                     }
                 }
-                let c = base + extra + 1;
+                let c = base + extra + u32::from(w.info & FREE == 0);
                 x.work[k as usize].cost = c;
-                let n_add = (w.info & !NUMERIC) as usize;
+                let n_add = (w.info & !(NUMERIC | FREE)) as usize;
                 let adds = if n_add <= 2 { &w.add[..n_add] } else { self.add.get(k as usize) };
                 for &f in adds {
                     if x.fact_stamp[f as usize] != stamp || c < x.cost[f as usize] {
@@ -699,7 +909,7 @@ impl<'a, 'db> Forward<'a, 'db> {
                     break true;
                 }
             }
-            if (f as usize) < self.fact_lit.len() {
+            if !self.num_facts.contains(&f) {
                 for &k in self.consumers.get(f as usize) {
                     let w = &mut x.work[k as usize];
                     if w.stamp != stamp {
@@ -756,9 +966,23 @@ impl<'a, 'db> Forward<'a, 'db> {
                 if std::mem::replace(&mut x.marked_op[k as usize], mark) == mark {
                     continue;
                 }
-                h += 1;
-                if x.work[k as usize].cost == 1 {
-                    helpful.push(k);
+                let w = x.work[k as usize];
+                if w.info & FREE == 0 {
+                    h += 1;
+                    if w.cost == 1 {
+                        helpful.push(match self.relaxed_of[k as usize] {
+                            Relaxed::Op(local) => local,
+                            // The member whose own fact holds.
+                            Relaxed::Group(g) => {
+                                let group = &self.groups[g as usize];
+                                let link = x.achiever[group.any as usize];
+                                let own = self.pre.get(link as usize)[0];
+                                let i = group.members.partition_point(|m| m.0 < own);
+                                group.members[i].1
+                            }
+                            Relaxed::Any => unreachable!(),
+                        });
+                    }
                 }
                 stack.extend(self.pre.get(k as usize).iter().copied().filter(|&p| x.cost[p as usize] > 0));
                 if self.numeric[k as usize] {
@@ -1582,6 +1806,53 @@ mod tests {
 
     /// The successors from the index are the operators whose `at start`
     /// conditions hold, tested one by one, along a walk of 30 states.
+    /// DriverLog's drives of a truck between two places, one per driver,
+    /// are one operator to the relaxation, which needs "any of" the
+    /// truck's drivers: fewer operators, and along a walk through the
+    /// helpful actions the same estimates as the operators one by one,
+    /// every helpful action one that may start.
+    #[test]
+    fn drives_that_differ_by_their_driver_are_one_to_the_relaxation() {
+        with_prepared("drivers-share-trucks.pddl", fixture("drivers-share-trucks.pddl"), 10_000, |p, _| {
+            let (grouped, alone) = (Forward::build(&p.task, true), Forward::build(&p.task, false));
+            assert!(alone.groups.is_empty());
+            assert_eq!(alone.relaxed_of.len(), alone.ops.len());
+            assert!(!grouped.groups.is_empty());
+            assert!(grouped.relaxed_of.len() < alone.relaxed_of.len());
+            for g in &grouped.groups {
+                for &(_, k) in &g.members {
+                    assert_eq!(p.task.ops[grouped.ops[k as usize] as usize].name.as_str(), "drive-truck");
+                }
+            }
+            let (mut xg, mut xa) = (grouped.scratch(), alone.scratch());
+            let (mut hg, mut ha) = (Vec::new(), Vec::new());
+            let mut s = grouped.initial();
+            let mut steps = 0;
+            while !grouped.is_goal(&s) && steps < 40 {
+                let h = grouped.relaxed(&s, &mut xg, &mut hg);
+                assert_eq!(h, alone.relaxed(&s, &mut xa, &mut ha), "the estimate after {steps} steps");
+                assert!(!hg.is_empty());
+                for &k in &hg {
+                    assert!(
+                        grouped.may_start(&s, k),
+                        "{} may not start",
+                        p.task.show_op(grouped.ops[k as usize])
+                    );
+                }
+                // The helpful action whose state is estimated best.
+                let next = hg
+                    .iter()
+                    .filter_map(|&k| grouped.apply(&s, k))
+                    .map(|(t, _)| (alone.relaxed(&t, &mut xa, &mut ha).unwrap_or(u32::MAX), t))
+                    .min_by_key(|(h, _)| *h)
+                    .expect("a helpful action runs");
+                s = next.1;
+                steps += 1;
+            }
+            assert!(steps > 5);
+        });
+    }
+
     #[test]
     fn successors_are_the_operators_that_may_start() {
         with_forward("drivers-share-trucks.pddl", |fw| {
