@@ -50,7 +50,7 @@ use std::time::Instant;
 
 use rustc_hash::FxHashMap;
 
-use super::numeric::NumCond;
+use super::numeric::{NumCond, NumEff};
 use super::output;
 use super::search::{End2, Search, Seed, SeedOrder, SeedStep};
 use super::stn::EPS;
@@ -1027,6 +1027,30 @@ impl<'a, 'db> Forward<'a, 'db> {
     }
 }
 
+/// Values far from any a condition compares with, and a probe value: a
+/// condition that holds far above and not far below wants its fluent high;
+/// an effect is additive when it moves 0 and the probe by the same amount.
+const FAR_VALUE: f64 = 1e12;
+const PROBE: f64 = 1000.0;
+
+/// Whether condition `c` holds with its fluent far above, and far below.
+fn holds_far(task: &Task<'_>, c: &NumCond<'_>) -> (bool, bool) {
+    let num = &task.numeric;
+    (num.holds(task, c, Some(FAR_VALUE)), num.holds(task, c, Some(-FAR_VALUE)))
+}
+
+/// Effect `e`'s value from 0 and from [`PROBE`], for a step of `duration`.
+fn probe(task: &Task<'_>, e: &NumEff<'_>, duration: Option<f64>) -> (Option<f64>, Option<f64>) {
+    let num = &task.numeric;
+    (num.apply(task, e, Some(0.0), duration), num.apply(task, e, Some(PROBE), duration))
+}
+
+/// Whether an effect that leaves `a` from 0 and `b` from [`PROBE`] adds
+/// the same amount to both (`a`).
+fn additive(a: f64, b: f64) -> bool {
+    ((b - PROBE) - a).abs() <= 1e-9 * (1.0 + a.abs())
+}
+
 /// What each local operator uses up of the resources that some condition
 /// wants high (a constant `decrease`, or one read from fluents no action
 /// writes: `(decrease (fuel ?a) (* (distance ?c1 ?c2) (slow-burn ?a)))`),
@@ -1036,16 +1060,14 @@ fn uses_and_producers(
     ops: &[u32],
     num_pre: &[Vec<(u32, u32)>],
 ) -> (Vec<Vec<(u32, f64)>>, Vec<u32>) {
-    const FAR_VALUE: f64 = 1e12;
-    const PROBE: f64 = 1000.0;
     let num = &task.numeric;
     let mut producer = vec![FAR; num.keys.len()];
     for (k, np) in num_pre.iter().enumerate() {
         let op = &task.ops[ops[k] as usize];
         for &(ci, f) in np {
             let c = &op.num_conds[ci as usize];
-            let wants_high = num.holds(task, c, Some(FAR_VALUE)) && !num.holds(task, c, Some(-FAR_VALUE));
-            if wants_high && producer[c.res as usize] == FAR {
+            let (up, down) = holds_far(task, c);
+            if up && !down && producer[c.res as usize] == FAR {
                 producer[c.res as usize] = f;
             }
         }
@@ -1057,11 +1079,9 @@ fn uses_and_producers(
             op.num_effs
                 .iter()
                 .filter(|e| producer[e.res as usize] != FAR)
-                .filter_map(|e| {
-                    let a = num.apply(task, e, Some(0.0), op.duration)?;
-                    let b = num.apply(task, e, Some(PROBE), op.duration)?;
-                    let additive = ((b - PROBE) - a).abs() <= 1e-9 * (1.0 + a.abs());
-                    (additive && a < 0.0).then_some((e.res, -a))
+                .filter_map(|e| match probe(task, e, op.duration) {
+                    (Some(a), Some(b)) if additive(a, b) && a < 0.0 => Some((e.res, -a)),
+                    _ => None,
                 })
                 .collect()
         })
@@ -1077,11 +1097,8 @@ fn uses_and_producers(
 /// evaluate). A condition that holds neither far above nor far below
 /// (an equality) takes every writer.
 fn helpers(task: &Task<'_>, c: &NumCond<'_>) -> Vec<u32> {
-    const FAR_VALUE: f64 = 1e12;
-    const PROBE: f64 = 1000.0;
     let num = &task.numeric;
-    let up = num.holds(task, c, Some(FAR_VALUE));
-    let down = num.holds(task, c, Some(-FAR_VALUE));
+    let (up, down) = holds_far(task, c);
     let monotone = up != down;
     let mut out = Vec::new();
     let Some(writers) = num.writers.get(c.res as usize) else { return out };
@@ -1090,12 +1107,8 @@ fn helpers(task: &Task<'_>, c: &NumCond<'_>) -> Vec<u32> {
             if !monotone {
                 return true;
             }
-            let a = num.apply(task, e, Some(0.0), Some(1.0));
-            let b = num.apply(task, e, Some(PROBE), Some(1.0));
-            match (a, b) {
-                (Some(a), Some(b)) if ((b - PROBE) - a).abs() <= 1e-9 * (1.0 + a.abs()) => {
-                    (a > 0.0 && up) || (a < 0.0 && down)
-                }
+            match probe(task, e, Some(1.0)) {
+                (Some(a), Some(b)) if additive(a, b) => (a > 0.0 && up) || (a < 0.0 && down),
                 (Some(a), Some(b)) if (a - b).abs() <= 1e-9 * (1.0 + a.abs()) => num.holds(task, c, Some(a)),
                 _ => true,
             }
