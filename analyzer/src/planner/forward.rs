@@ -56,8 +56,8 @@ use super::search::{End2, Search, Seed, SeedOrder, SeedStep};
 use super::stn::EPS;
 use super::task::{End, Lit, Task, atom_of, is_neg};
 use super::{
-    Config, FORWARD_AFTER, FORWARD_FIRST, LimitKind, Outcome, PlannerLimits, Prepared, Progress, Quality,
-    Stats, Status,
+    Config, FORWARD_AFTER, FORWARD_ALONE, FORWARD_FIRST, LimitKind, Outcome, PlannerLimits, Prepared,
+    Progress, Quality, Stats, Status,
 };
 use crate::db::Db;
 
@@ -1580,8 +1580,26 @@ impl<'db> Prepared<'db> {
 /// share of the time on this task: fewer than [`FORWARD_FIRST`] ground
 /// operators. On a larger one it stops at [`LARGE_FIRST_NODES`]
 /// expansions.
-fn task_small(task: &Task<'_>) -> bool {
-    task.ops.len() < FORWARD_FIRST
+/// What the default sequence gives the partial-order search before the
+/// forward phase, by the size of the ground model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum First {
+    /// Its share of the time ([`FORWARD_AFTER`]).
+    Share,
+    /// Its share, and [`LARGE_FIRST_NODES`] expansions at most
+    /// ([`FORWARD_FIRST`] operators or more).
+    Nodes,
+    /// Nothing: the forward phase starts ([`FORWARD_ALONE`] operators or
+    /// more).
+    Nothing,
+}
+
+fn first_search(task: &Task<'_>) -> First {
+    match task.ops.len() {
+        n if n >= FORWARD_ALONE => First::Nothing,
+        n if n >= FORWARD_FIRST => First::Nodes,
+        _ => First::Share,
+    }
 }
 
 /// The partial-order search's expansions at most before the forward phase
@@ -1599,7 +1617,8 @@ impl<'db> Prepared<'db> {
     /// search for [`FORWARD_AFTER`] of the time left (or until the memory
     /// limit: its open list is freed; on a ground model of
     /// [`FORWARD_FIRST`] operators or more, [`LARGE_FIRST_NODES`]
-    /// expansions at most), then the forward phase (without a time limit, the partial-order search
+    /// expansions at most; from [`FORWARD_ALONE`] operators, not at all),
+    /// then the forward phase (without a time limit, the partial-order search
     /// alone). When the forward phase finds no sequence, the partial-order
     /// search runs for what is left. The statistics add up the phases'.
     pub(super) fn first_plan(
@@ -1641,12 +1660,13 @@ impl<'db> Prepared<'db> {
                 ..limits.clone()
             }
         };
-        if !config.forward {
+        let first_search = first_search(&self.task);
+        if !config.forward && first_search != First::Nothing {
             let share = limits.time.map(|t| {
                 let spent = limits.time_spent_since(started);
                 spent + t.saturating_sub(spent).mul_f64(FORWARD_AFTER)
             });
-            let large = !task_small(&self.task);
+            let large = first_search == First::Nodes;
             let mut first_limits = phase(share, &before, false);
             if large {
                 first_limits.nodes =
@@ -1864,6 +1884,40 @@ mod tests {
             }
             assert!(steps > 5);
         });
+    }
+
+    /// A graph of `n` places, a move between any two: `n * n` ground
+    /// moves, every one reachable and relevant to reaching the last place.
+    fn complete_graph(n: usize) -> String {
+        let places: Vec<String> = (0..n).map(|i| format!("p{i}")).collect();
+        format!(
+            "(define (domain graph) (:requirements :strips :typing :durative-actions)
+               (:types place)
+               (:predicates (at ?p - place))
+               (:durative-action move :parameters (?a ?b - place) :duration (= ?duration 1)
+                 :condition (at start (at ?a))
+                 :effect (and (at start (not (at ?a))) (at end (at ?b)))))
+             (define (problem walk) (:domain graph)
+               (:objects {} - place)
+               (:init (at p0))
+               (:goal (at p{})))",
+            places.join(" "),
+            n - 1
+        )
+    }
+
+    /// The partial-order search runs before the forward phase for its share
+    /// of the time on a small ground model, for a few thousand expansions
+    /// from 3,000 operators, and not at all from 20,000.
+    #[test]
+    fn the_largest_models_start_with_the_forward_phase() {
+        for (n, first) in [(10, First::Share), (60, First::Nodes), (150, First::Nothing)] {
+            with_prepared("graph.pddl", complete_graph(n), 1, |prepared, _| {
+                assert!(applies(&prepared.task));
+                assert_eq!(prepared.task.ops.len(), n * n, "{n} places");
+                assert_eq!(first_search(&prepared.task), first, "{n} places");
+            });
+        }
     }
 
     #[test]
