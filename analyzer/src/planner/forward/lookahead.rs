@@ -65,7 +65,7 @@ impl Lookahead {
                 .iter()
                 .enumerate()
                 .find_map(|(i, &(k, _))| {
-                    members(fw, k).find_map(|local| fw.apply(cur, local).map(|(t, d)| (i, local, t, d)))
+                    members_of(fw, k).find_map(|local| fw.apply(cur, local).map(|(t, d)| (i, local, t, d)))
                 })
                 .or_else(|| self.repair(fw, cur, &items));
             let Some((i, op, state, duration)) = found else { break };
@@ -100,7 +100,7 @@ impl Lookahead {
 
 /// The local operators a relaxed operator stands for: itself, or a
 /// group's members.
-fn members<'f>(fw: &'f Forward<'_, '_>, k: u32) -> impl Iterator<Item = u32> + 'f {
+pub(super) fn members_of<'f>(fw: &'f Forward<'_, '_>, k: u32) -> impl Iterator<Item = u32> + 'f {
     let (one, group): (Option<u32>, &[(u32, u32)]) = match fw.relaxed_of[k as usize] {
         Relaxed::Op(local) => (Some(local), &[]),
         Relaxed::Group(g) => (None, &fw.groups[g as usize].members),

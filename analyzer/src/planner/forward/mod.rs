@@ -2057,14 +2057,107 @@ mod tests {
                 let mut stats = Stats::default();
                 let mut budget = Budget::new(limits, &|| false, Instant::now());
                 let found = if ehc {
-                    hill_climb(&fw, &mut x, &mut budget, &mut |_| {}, &mut stats)
+                    hill_climb(&fw, None, &mut x, &mut budget, &mut |_| {}, &mut stats)
                 } else {
-                    Some(best_first(&fw, &mut x, &mut budget, &mut |_| {}, &mut stats))
+                    Some(best_first(&fw, None, &mut x, &mut budget, &mut |_| {}, &mut stats))
                 };
                 (matches!(found, Some(Found::Plan(_))), stats.expanded)
             };
             [run(true), run(false)]
         })
+    }
+
+    /// The expansions of the enforced hill-climbing, then of the greedy
+    /// best-first search alone, each without and with the lookahead, up to
+    /// `nodes` each, on a fixture of `tests/planner`: whether each found a
+    /// sequence (checked by replaying it from the initial state), and its
+    /// expansions.
+    fn with_and_without_lookahead(file: &str, nodes: u64) -> [[(bool, u64); 2]; 2] {
+        with_prepared(file, fixture(file), nodes, |prepared, limits| {
+            let fw = Forward::new(&prepared.task);
+            let look = Lookahead::new(&fw);
+            let mut x = fw.scratch();
+            let mut run = |ehc: bool, look: Option<&Lookahead>| {
+                let mut stats = Stats::default();
+                let mut budget = Budget::new(limits, &|| false, Instant::now());
+                let found = if ehc {
+                    hill_climb(&fw, look, &mut x, &mut budget, &mut |_| {}, &mut stats)
+                } else {
+                    Some(best_first(&fw, look, &mut x, &mut budget, &mut |_| {}, &mut stats))
+                };
+                let solved = match found {
+                    Some(Found::Plan(steps)) => {
+                        let local: FxHashMap<u32, u32> =
+                            fw.ops.iter().enumerate().map(|(k, &o)| (o, k as u32)).collect();
+                        let mut s = fw.initial();
+                        for step in &steps {
+                            let (t, d) = fw.apply(&s, local[&step.op]).expect("each step runs");
+                            assert!((step.end - step.start - d).abs() < 1e-9);
+                            s = t;
+                        }
+                        assert!(fw.is_goal(&s), "the sequence reaches the goal");
+                        true
+                    }
+                    _ => false,
+                };
+                (solved, stats.expanded)
+            };
+            [[run(true, None), run(true, Some(&look))], [run(false, None), run(false, Some(&look))]]
+        })
+    }
+
+    /// Two trucks, three packages, drivers who walk: the relaxed plan
+    /// drives a truck from where it is to every place it needs, and the
+    /// lookahead runs it, a drive repaired to start where the truck
+    /// arrived. With the lookahead both searches reach the goal in fewer
+    /// expansions, their sequences valid.
+    #[test]
+    fn the_lookahead_reaches_a_drivers_goal_in_fewer_expansions() {
+        let [[ehc, ehc_look], [gbfs, gbfs_look]] =
+            with_and_without_lookahead("drivers-share-trucks.pddl", 10_000);
+        assert!(ehc.0 && ehc_look.0 && gbfs.0 && gbfs_look.0, "{ehc:?} {ehc_look:?} {gbfs:?} {gbfs_look:?}");
+        assert!(ehc_look.1 < ehc.1, "hill-climbing: {} with the lookahead, {} without", ehc_look.1, ehc.1);
+        assert!(gbfs_look.1 < gbfs.1, "best-first: {} with the lookahead, {} without", gbfs_look.1, gbfs.1);
+    }
+
+    /// Along a walk through lookahead states: each lookahead's steps replay
+    /// from the state it started in through [`Forward::apply`] (conditions,
+    /// durations, effects) to the state it reports, and some step of some
+    /// lookahead is a repair, an operator of no relaxed plan's action.
+    #[test]
+    fn a_repaired_lookahead_sequence_is_valid() {
+        with_forward("drivers-share-trucks.pddl", |fw| {
+            let look = Lookahead::new(fw);
+            let mut x = fw.scratch();
+            let mut helpful = Vec::new();
+            let mut s = fw.initial();
+            let mut repairs = 0;
+            for _ in 0..20 {
+                if fw.is_goal(&s) || fw.relaxed(&s, &mut x, &mut helpful).is_none() {
+                    break;
+                }
+                let planned: Vec<u32> = x
+                    .plan
+                    .iter()
+                    .flat_map(|&(k, _)| lookahead::members_of(fw, k).collect::<Vec<_>>())
+                    .collect();
+                let steps = look.run(fw, &x, &s);
+                if steps.is_empty() {
+                    break;
+                }
+                let mut t = s.clone();
+                for a in &steps {
+                    let (next, d) = fw.apply(&t, a.op).expect("a lookahead step runs where it is");
+                    assert_eq!(d, a.duration);
+                    assert!(next == a.state, "{}", fw.task.show_op(fw.ops[a.op as usize]));
+                    repairs += usize::from(!planned.contains(&a.op));
+                    t = next;
+                }
+                s = t;
+            }
+            assert!(repairs > 0, "no repaired step");
+            assert!(fw.is_goal(&s), "the lookaheads reach the goal");
+        });
     }
 
     /// On a Rovers problem of 4,261 ground operators the enforced
