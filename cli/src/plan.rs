@@ -163,6 +163,12 @@ pub fn run(domain: &Path, problem: &Path, options: &Options) -> u8 {
             stats.peak_open,
             stats.largest
         );
+        if stats.lookahead_steps > 0 {
+            eprintln!(
+                "lookahead: {} taken, {} actions in those estimated",
+                stats.lookahead_taken, stats.lookahead_steps
+            );
+        }
         if stats.redundant_removed > 0 {
             eprintln!(
                 "redundant steps: {} removed in {:.3} s",

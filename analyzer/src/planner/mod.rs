@@ -438,6 +438,11 @@ pub struct Stats {
     pub stopped_by: Option<LimitKind>,
     /// How good the plan returned is.
     pub best: Option<Quality>,
+    /// The forward phase's lookaheads whose state it took (a better
+    /// current state in the hill-climbing, a state expanded in the
+    /// best-first search), and the actions of all it estimated.
+    pub lookahead_taken: u64,
+    pub lookahead_steps: u64,
 }
 
 /// How good a plan is: its makespan, then its cost (`g`: the makespan or
