@@ -15,7 +15,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use hipop_analyzer::planner::{Config, PlannerLimits, Status};
+use hipop_analyzer::planner::{Config, LimitKind, PlannerLimits, Status};
 use hipop_analyzer::{AnalysisHost, PlanningResult};
 
 fn root() -> PathBuf {
@@ -1015,4 +1015,30 @@ fn a_ground_model_past_the_limits_says_how_big_it_is() {
     let messages: Vec<String> =
         result.diagnostics.iter().map(|d| format!("{} {}", d.code.id, d.message)).collect();
     insta::assert_snapshot!("wide-action-every-instance-refused", messages.join("\n"));
+}
+
+/// IPC 2020 PCP p-pcp07: the search from the front runs a recursion to its
+/// end before other tasks, and runs out of plans after 13 expansions. It
+/// says that a plan interleaving them may exist rather than that there is
+/// none, and the default sequence goes on to the search with links first
+/// (it answered "no plan" after 8,206 expansions, 2026-11-28).
+#[test]
+fn running_out_of_plans_from_the_front_is_no_proof() {
+    let Some(corpora) = corpora() else {
+        eprintln!("skipped: no corpora (set HIPOP_CORPORA)");
+        return;
+    };
+    let dir = corpora.join("ipc2020-hddl/partial-order/PCP");
+    let (domain, problem) = (dir.join("p-pcp07-domain.hddl"), dir.join("p-pcp07.hddl"));
+    let front = Config::parse("AR-time-local-motion-front").expect("a configuration");
+    let (_, result) = plan(&domain, &problem, &front, &limits(600));
+    assert_eq!(result.status, Status::NoPlan, "{:?}", result.diagnostics);
+    assert!(
+        result.diagnostics.iter().any(|d| d.message.contains("a plan that interleaves them may exist")),
+        "{:?}",
+        result.diagnostics
+    );
+    let nodes = PlannerLimits { nodes: Some(9_000), first: true, ..limits(600) };
+    let (_, result) = plan(&domain, &problem, &Config::default(), &nodes);
+    assert_eq!(result.status, Status::Limit(LimitKind::Nodes), "{:?}", result.diagnostics);
 }

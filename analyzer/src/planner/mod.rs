@@ -747,6 +747,11 @@ impl<'db> Prepared<'db> {
                         limits.nodes.is_none_or(|n| before.expanded + outcome.stats.expanded < n)
                     }
                     Status::Limit(LimitKind::Time) => limits.time.is_none_or(|t| spent < t),
+                    // The search from the front runs a recursion to its end
+                    // before other tasks: running out of plans proves
+                    // nothing where a plan must interleave them (IPC 2020
+                    // PCP p-pcp14, solved by links first).
+                    Status::NoPlan => phase.front,
                     _ => false,
                 };
             let b = &mut outcome.stats;
@@ -820,14 +825,18 @@ impl<'db> Prepared<'db> {
                         if n == 1 { "" } else { "s" }
                     ),
                 };
-                let mut lints = vec![Lint::new(
-                    codes::NO_PLAN,
-                    mission_loc(db, task),
+                let message = if search.runs_recursions_to_their_end() {
+                    format!(
+                        "no plan from the front: the search explored every partial plan that runs a recursion to its end before other tasks ({} expanded){skipped}; a plan that interleaves them may exist (the default configuration searches for it)",
+                        stats.expanded
+                    )
+                } else {
                     format!(
                         "no plan with the allowed actions and the methods: the search explored every partial plan ({} expanded){skipped}",
                         stats.expanded
-                    ),
-                )];
+                    )
+                };
+                let mut lints = vec![Lint::new(codes::NO_PLAN, mission_loc(db, task), message)];
                 lints.extend(output::flaws(db, task, best.as_ref(), h));
                 Outcome { status: Status::NoPlan, plan: None, stats, lints }
             }

@@ -219,6 +219,13 @@ impl Search<'_, '_> {
     /// lost are those that interleave another task with a recursion under
     /// way; the search with links first, last in the default sequence,
     /// still finds them.
+    /// Whether plans grow from their front with a recursive task to run
+    /// to its end ([`Search::recursion_under_way`]): the search is then
+    /// not complete.
+    pub fn runs_recursions_to_their_end(&self) -> bool {
+        self.composition.as_ref().is_some_and(|c| c.recursive.iter().any(|&r| r))
+    }
+
     fn recursion_under_way(&self, p: &Plan, rest: &[u32], unrefined: &[u32]) -> Option<u32> {
         let comp = self.composition.as_ref()?;
         let mut found: Option<u32> = None;
