@@ -290,6 +290,16 @@ impl SubtaskGraph {
     }
 }
 
+/// Per operator of `task`, whether it is a task on a cycle of the ground
+/// task decomposition graph (task to its methods' subtasks): in a strongly
+/// connected component of more than one operator, or its own subtask.
+pub(super) fn recursive_tasks(task: &Task<'_>) -> Vec<bool> {
+    let SubtaskGraph { succ, comp, comps } = SubtaskGraph::of(task);
+    (0..succ.len())
+        .map(|v| comps[comp[v] as usize].len() > 1 || succ[v].binary_search(&(v as u32)).is_ok())
+        .collect()
+}
+
 /// What every refinement of each operator needs from outside it: the
 /// literals that some elementary step of any refinement needs and that no
 /// other step of the refinement may make true (so the initial state, or a

@@ -599,7 +599,7 @@ impl Composition {
             }
         }
         Composition {
-            recursive: recursive_tasks(task),
+            recursive: super::super::heuristic::recursive_tasks(task),
             lits,
             pre,
             eff,
@@ -702,77 +702,6 @@ impl Search<'_, '_> {
         }
         (h, effort + p.threats.len() as f64)
     }
-}
-
-/// Per operator of `task`, whether it is an abstract task on a cycle of the
-/// ground task decomposition graph (task to the tasks of its methods'
-/// subtasks): the strongly connected components, by Kosaraju's two
-/// searches, without recursion.
-fn recursive_tasks(task: &Task<'_>) -> Vec<bool> {
-    let n = task.ops.len();
-    let mut next: Vec<Vec<u32>> = vec![Vec::new(); n];
-    let mut prev: Vec<Vec<u32>> = vec![Vec::new(); n];
-    let mut recursive = vec![false; n];
-    for m in &task.methods {
-        for &(_, s) in &m.subtasks {
-            if task.ops[s as usize].is_abstract {
-                if s == m.task {
-                    recursive[s as usize] = true;
-                }
-                next[m.task as usize].push(s);
-                prev[s as usize].push(m.task);
-            }
-        }
-    }
-    // First search: the nodes by the time they finish.
-    let mut order = Vec::with_capacity(n);
-    let mut visited = vec![false; n];
-    for root in 0..n {
-        if visited[root] {
-            continue;
-        }
-        visited[root] = true;
-        let mut stack = vec![(root, 0usize)];
-        while let Some(&mut (v, ref mut i)) = stack.last_mut() {
-            if let Some(&w) = next[v].get(*i) {
-                *i += 1;
-                if !visited[w as usize] {
-                    visited[w as usize] = true;
-                    stack.push((w as usize, 0));
-                }
-            } else {
-                order.push(v);
-                stack.pop();
-            }
-        }
-    }
-    // Second search, on the reversed graph, latest finished first: each
-    // tree is a component.
-    let mut comp = vec![u32::MAX; n];
-    let mut members = Vec::new();
-    for &root in order.iter().rev() {
-        if comp[root] != u32::MAX {
-            continue;
-        }
-        comp[root] = root as u32;
-        members.clear();
-        let mut stack = vec![root];
-        while let Some(v) = stack.pop() {
-            members.push(v);
-            for &w in &prev[v] {
-                if comp[w as usize] == u32::MAX {
-                    comp[w as usize] = root as u32;
-                    stack.push(w as usize);
-                }
-            }
-        }
-        if members.len() > 1 {
-            for &v in &members {
-                recursive[v] = true;
-            }
-        }
-    }
-    recursive
 }
 
 /// The states whose relaxed composition's costs the search keeps
