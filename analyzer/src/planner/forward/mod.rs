@@ -228,8 +228,8 @@ struct Forward<'a, 'db> {
 /// crosses breadth-first; on the hand-coded problems dozens of them in a
 /// row (`time-simple` 2 stalled at an estimate of 26 for 60 s). A goal
 /// undone must be made again, at least the way back: `time-simple` and
-/// `time` hand-coded 1-10 are all solved with 4 (1-10 s), 6 of 10 with 3,
-/// 5 with 2, 2 with 1, 1 without.
+/// `time` hand-coded 1-10 are all solved with 4 (0.3-7.5 s); of the ten
+/// `time-simple` ones, 9 with 3, 5 with 2, 1 without.
 const UNDO_GOAL: u32 = 4;
 
 /// The ground operators from which a goal undone costs the relaxation
