@@ -1433,10 +1433,16 @@ pub fn search(
     let look = (task.ops.len() >= LOOKAHEAD_FROM).then(|| Lookahead::new(&fw));
     let mut x = fw.scratch();
     let mut budget = Budget::new(limits, cancel, started);
-    match hill_climb(&fw, look.as_ref(), &mut x, &mut budget, progress, stats) {
+    let found = match hill_climb(&fw, look.as_ref(), &mut x, &mut budget, progress, stats) {
         Some(found) => found,
         None => best_first(&fw, look.as_ref(), &mut x, &mut budget, progress, stats),
+    };
+    if limits.exits_after && matches!(found, Found::Limit(_)) {
+        // The run ends here and the process exits: the relaxation's tables
+        // are left to the exit to free.
+        std::mem::forget((fw, x, look));
     }
+    found
 }
 
 /// FF's enforced hill-climbing (Hoffmann and Nebel 2001): from the
@@ -1960,7 +1966,9 @@ impl<'db> Prepared<'db> {
         }
         let done = before.expanded;
         let mut counted = |p: &Progress| progress(&Progress { expanded: done + p.expanded, ..*p });
-        let fwd = self.forward(db, config, &phase(None, &before, false), cancel, &mut counted);
+        // At a limit the forward phase's answer is the run's (its tables
+        // left to the exit, when the process exits after).
+        let fwd = self.forward(db, config, &phase(None, &before, limits.exits_after), cancel, &mut counted);
         if fwd.status != Status::NoPlan {
             return total(fwd, &before);
         }
