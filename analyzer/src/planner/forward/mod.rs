@@ -212,7 +212,8 @@ struct Forward<'a, 'db> {
     goal_deleters: Lists,
     op_del_goals: Lists,
     /// What undoing a goal that holds adds to an operator's cost in the
-    /// relaxation ([`UNDO_GOAL`]; 0 in tests that compare).
+    /// relaxation: [`UNDO_GOAL`] on a model of [`UNDO_FROM`] operators or
+    /// more, else 0.
     undo_cost: u32,
 }
 
