@@ -489,6 +489,14 @@ struct Scratch {
     goal_mark: Vec<u32>,
 }
 
+impl Scratch {
+    /// What undoing goals adds to operator `k`'s cost in the call of `stamp`.
+    #[inline]
+    fn undo_of(&self, k: u32, stamp: u32) -> u32 {
+        if self.undo_stamp[k as usize] == stamp { self.undo[k as usize] } else { 0 }
+    }
+}
+
 /// An operator in the relaxation: its work, valid when `stamp` is the
 /// call's (its conditions left, the sum of their costs so far, its cost),
 /// and what it needs and adds, in 32 bytes. The relaxation reaches a
@@ -998,7 +1006,7 @@ impl<'a, 'db> Forward<'a, 'db> {
                         continue;
                     }
                 }
-                let undo = if x.undo_stamp[k as usize] == stamp { x.undo[k as usize] } else { 0 };
+                let undo = x.undo_of(k, stamp);
                 let c = base + extra + u32::from(w.info & FREE == 0) + undo;
                 x.work[k as usize].cost = c;
                 let n_add = (w.info & !(NUMERIC | FREE)) as usize;
@@ -1043,7 +1051,7 @@ impl<'a, 'db> Forward<'a, 'db> {
                     x.waiting[k as usize] -= 1;
                     x.work[k as usize].sum += c;
                     if x.waiting[k as usize] == 0 {
-                        let undo = if x.undo_stamp[k as usize] == stamp { x.undo[k as usize] } else { 0 };
+                        let undo = x.undo_of(k, stamp);
                         let c = x.work[k as usize].sum + 1 + undo;
                         x.work[k as usize].cost = c;
                         for &g in self.add.get(k as usize) {
@@ -1088,7 +1096,7 @@ impl<'a, 'db> Forward<'a, 'db> {
                 }
                 if w.info & FREE == 0 {
                     h += 1;
-                    let undo = if x.undo_stamp[k as usize] == stamp { x.undo[k as usize] } else { 0 };
+                    let undo = x.undo_of(k, stamp);
                     if undo > 0 {
                         for &i in self.op_del_goals.get(k as usize) {
                             if s.holds(self.goal_lits[i as usize])
