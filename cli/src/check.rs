@@ -2,6 +2,7 @@
 
 use std::collections::HashMap;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use hipop_analyzer::db::{UnitHeader, UnitKind};
 use hipop_analyzer::fix::{apply_edits, select_fixes};
@@ -94,10 +95,15 @@ struct Checked {
     families: Vec<String>,
 }
 
+/// At most this many groups of files are checked at once: each holds its
+/// files' trees and grounding while it runs.
+const MAX_GROUP_WORKERS: usize = 4;
+
 /// Checks `files` (of `host`, with their `texts`), one result per file. When
 /// the files fall into independent groups (a domain with its problems,
 /// [`independent_groups`]), each group is checked in a database of its own,
-/// dropped before the next: a folder of many domains never holds them all,
+/// dropped when it is done, a few groups at once (one per core, at most
+/// [`MAX_GROUP_WORKERS`]): a folder of many domains never holds them all,
 /// with every memo, at once. The diagnostics are the same as those of one
 /// database, their files those of `host`. `None` if the analysis was
 /// cancelled, which nothing does while the CLI reads it.
@@ -117,9 +123,12 @@ fn check_groups(
     // the next group's trees, which a return would fault in again (0.25 s
     // more system time on a folder of 50 domains, docs/benchmarks.md).
     let size = |group: &[usize]| group.iter().map(|&i| texts[i].1.len()).sum::<usize>();
-    let largest = (0..groups.len()).max_by_key(|&g| (size(&groups[g]), std::cmp::Reverse(g)));
-    let mut out: Vec<Checked> = files.iter().map(|_| Checked::default()).collect();
-    for (g, group) in groups.into_iter().enumerate() {
+    // The largest groups first, so that the workers end together.
+    let mut order: Vec<usize> = (0..groups.len()).collect();
+    order.sort_by_key(|&g| (std::cmp::Reverse(size(&groups[g])), g));
+    let largest = order[0];
+    let check_group = |g: usize| -> Option<Vec<Checked>> {
+        let group = &groups[g];
         let mut own = AnalysisHost::new();
         own.drop_syntax_after_use();
         own.set_triangle_tolerance(options.triangle_tolerance);
@@ -127,10 +136,36 @@ fn check_groups(
             group.iter().map(|&i| own.set_file_text(&texts[i].0, texts[i].1.clone())).collect();
         // This group's files are the host's files at the same indices.
         let to_host: HashMap<SourceFile, SourceFile> =
-            own_files.iter().zip(&group).map(|(&f, &i)| (f, files[i])).collect();
-        let checked = check_all(&mut own, &own_files, options, explain, Some(g) == largest)?;
-        for (mut c, &i) in checked.into_iter().zip(&group) {
+            own_files.iter().zip(group).map(|(&f, &i)| (f, files[i])).collect();
+        let mut checked = check_all(&mut own, &own_files, options, explain, g == largest)?;
+        for c in &mut checked {
             c.diagnostics.iter_mut().for_each(|d| relocate(d, &to_host));
+        }
+        Some(checked)
+    };
+    // Groups share nothing: a few at a time, each in its own thread, taken
+    // in turn from `order`.
+    let workers =
+        std::thread::available_parallelism().map_or(1, |n| n.get()).min(MAX_GROUP_WORKERS).min(groups.len());
+    let next = AtomicUsize::new(0);
+    let work = || {
+        let mut done = Vec::new();
+        while let Some(&g) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+            done.push((g, check_group(g)));
+        }
+        done
+    };
+    let done: Vec<(usize, Option<Vec<Checked>>)> = std::thread::scope(|scope| {
+        let others: Vec<_> = (1..workers).map(|_| scope.spawn(work)).collect();
+        let mut done = work();
+        for other in others {
+            done.extend(other.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)));
+        }
+        done
+    });
+    let mut out: Vec<Checked> = files.iter().map(|_| Checked::default()).collect();
+    for (g, checked) in done {
+        for (c, &i) in checked?.into_iter().zip(&groups[g]) {
             out[i] = c;
         }
     }

@@ -265,3 +265,32 @@ fn fix_skips_overlapping_fixes() {
     assert_eq!(status(&o), 0, "stderr:\n{err}");
     assert!(err.contains("W0302"), "stderr:\n{err}");
 }
+
+/// The files of a folder fall into independent groups (a domain with its
+/// problems), checked a few at a time in threads of their own: the folder's
+/// diagnostics are those of its entries checked one by one, in the order of
+/// its files.
+#[test]
+fn a_folder_of_many_groups_reports_as_its_entries_one_by_one() {
+    let diagnostics = |path: &str| -> Vec<Value> {
+        let o = hipop(&["check", path, "--format", "json", "--max-diagnostics", "0"]);
+        assert_no_panic(&o);
+        let doc: Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+        doc["diagnostics"].as_array().expect("diagnostics array").clone()
+    };
+    let folder = "samples/broken";
+    let mut entries: Vec<std::path::PathBuf> = std::fs::read_dir(workspace_root().join(folder))
+        .expect("samples/broken")
+        .map(|e| e.expect("an entry").path())
+        .filter(|p| p.is_dir() || p.extension().is_some_and(|e| e == "pddl" || e == "hddl"))
+        .collect();
+    entries.sort();
+    assert!(entries.len() > 20, "samples/broken holds the broken fixtures");
+    let one_by_one: Vec<Value> = entries
+        .iter()
+        .flat_map(|p| diagnostics(&format!("{folder}/{}", p.file_name().unwrap().to_str().unwrap())))
+        .collect();
+    let all = diagnostics(folder);
+    assert!(all.len() > 20, "the broken fixtures have diagnostics");
+    assert_eq!(all, one_by_one);
+}
