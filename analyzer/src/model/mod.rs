@@ -3,83 +3,17 @@
 //! that editing one item leaves the model of every other item equal.
 
 mod lower;
+mod name;
 
 pub use lower::{
     ACTION_FIELDS, DURATIVE_ACTION_FIELDS, HTN_FIELDS, Lowered, METHOD_FIELDS, TASK_FIELDS, lower_chunk,
     lower_list,
 };
 
+pub use name::Name;
 use rowan::{TextRange, TextSize};
 /// A short string stored inline (names are short): no allocation per name.
 pub type Str = compact_str::CompactString;
-
-/// A name as written, with its lower-cased key (PDDL names are case-insensitive).
-///
-/// Stored in one inline string of 32 bytes with the span, not two: a large
-/// `:init` or a domain of many actions holds hundreds of thousands of names.
-/// A name without upper-case letters (most of them) is its own key; one with
-/// some is stored followed by its key, which has the same length (ASCII
-/// lower-casing keeps every byte's width), and the upper-case letters of the
-/// first half tell the two forms apart.
-#[derive(Clone, PartialEq, Eq, Hash)]
-pub struct Name {
-    repr: Str,
-    pub span: TextRange,
-}
-
-impl Name {
-    #[inline]
-    pub fn new(text: &str, span: TextRange) -> Name {
-        let repr = if has_ascii_uppercase(text.as_bytes()) {
-            let mut repr = Str::with_capacity(2 * text.len());
-            repr.push_str(text);
-            repr.push_str(text);
-            repr[text.len()..].make_ascii_lowercase();
-            repr
-        } else {
-            Str::new(text)
-        };
-        Name { repr, span }
-    }
-
-    /// Whether the name is stored followed by its key.
-    #[inline]
-    fn doubled(&self) -> bool {
-        has_ascii_uppercase(self.repr.as_bytes())
-    }
-
-    /// The name as written.
-    #[inline]
-    pub fn text(&self) -> &str {
-        if self.doubled() { &self.repr[..self.repr.len() / 2] } else { &self.repr }
-    }
-
-    /// The name lower-cased: what it is compared and looked up by.
-    #[inline]
-    pub fn key(&self) -> &str {
-        if self.doubled() { &self.repr[self.repr.len() / 2..] } else { &self.repr }
-    }
-
-    /// [`Name::text`], owned.
-    pub fn text_str(&self) -> Str {
-        Str::new(self.text())
-    }
-
-    /// [`Name::key`], owned.
-    pub fn key_str(&self) -> Str {
-        Str::new(self.key())
-    }
-}
-
-impl std::fmt::Debug for Name {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Name")
-            .field("text", &self.text())
-            .field("key", &self.key())
-            .field("span", &self.span)
-            .finish()
-    }
-}
 
 /// Whether `s` has an ASCII upper-case letter, tested eight bytes at a time:
 /// a big problem has tens of thousands of names, and a loop over their bytes
