@@ -178,7 +178,9 @@ pub enum NumExpr {
 pub enum Gd {
     Atom(Atom),
     Equal(Term, Term, TextRange),
-    Compare(CmpOp, NumExpr, NumExpr, TextRange),
+    /// The operands boxed: comparisons are few, atoms many, and an enum is as
+    /// large as its largest variant.
+    Compare(CmpOp, Box<NumExpr>, Box<NumExpr>, TextRange),
     Not(Box<Gd>, TextRange),
     And(Vec<Gd>, TextRange),
     Or(Vec<Gd>, TextRange),
@@ -191,7 +193,7 @@ pub enum Gd {
     /// PDDL 3 / HDDL 2.1 modal constraints: `(always gd)`, `(at-most-once gd)`,
     /// `(sometime-before a b)`, `(before t1 gd)`, … The operands that are goal
     /// descriptions are kept; subtask ids in `ids`.
-    Modal(Box<str>, Vec<Gd>, Vec<Name>, TextRange),
+    Modal(Box<str>, Vec<Gd>, Box<[Name]>, TextRange),
     /// An ordering constraint inside `:constraints` (`(< t1 t2)`).
     Order(Ordering),
     /// `(sortof ?x - t)`: pandaPIparser's type constraint on a variable.
@@ -205,7 +207,8 @@ pub enum Effect {
     Del(Atom, TextRange),
     And(Vec<Effect>, TextRange),
     Forall(Vec<Typed>, Box<Effect>, TextRange),
-    When(Gd, Box<Effect>, TextRange),
+    /// The condition boxed, like [`Gd::Compare`]'s operands.
+    When(Box<Gd>, Box<Effect>, TextRange),
     /// `(increase (f) e)`, `(assign …)`, …
     Numeric(Box<str>, Box<Fluent>, NumExpr, TextRange),
     /// `(assign (f) undefined)` and object-fluent assignment keep the target only.

@@ -609,7 +609,7 @@ impl<'db> Compiler<'_, 'db> {
     /// change: `(= ?duration e)` with `e` reading one such fluent.
     fn numeric_duration(&mut self, d: &'db Gd, b: &Binding) -> Option<NumDuration<'db>> {
         let Gd::Compare(CmpOp::Eq, l, r, _) = d else { return None };
-        let expr = match (l, r) {
+        let expr = match (&**l, &**r) {
             (NumExpr::Duration(_), e) | (e, NumExpr::Duration(_)) => e,
             _ => return None,
         };

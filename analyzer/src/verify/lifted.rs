@@ -270,10 +270,12 @@ fn params(typed: &[Typed]) -> Vec<Param> {
 fn duration(gd: Option<&Gd>) -> Duration {
     match gd {
         None => Duration::None,
-        Some(
-            Gd::Compare(CmpOp::Eq, NumExpr::Duration(_), e, _)
-            | Gd::Compare(CmpOp::Eq, e, NumExpr::Duration(_), _),
-        ) => Duration::Exact(e.clone()),
+        Some(Gd::Compare(CmpOp::Eq, l, r, _)) if matches!(**l, NumExpr::Duration(_)) => {
+            Duration::Exact((**r).clone())
+        }
+        Some(Gd::Compare(CmpOp::Eq, l, r, _)) if matches!(**r, NumExpr::Duration(_)) => {
+            Duration::Exact((**l).clone())
+        }
         Some(Gd::And(gs, _)) if gs.len() == 1 => duration(gs.first()),
         Some(other) => Duration::Bounded(gd_span(other)),
     }

@@ -193,7 +193,7 @@ impl Cx {
                 _ => Vec::new(),
             };
             let body = self.gd(body);
-            return Gd::Modal("at".into(), vec![body], ids, span);
+            return Gd::Modal("at".into(), vec![body], ids.into(), span);
         }
         match h.as_str() {
             "and" => Gd::And(args.iter().map(|x| self.gd(x)).collect(), span),
@@ -268,7 +268,7 @@ impl Cx {
             op if CmpOp::parse(op).is_some() => match args {
                 [a, b] => {
                     let (a, b) = (self.num_expr(a), self.num_expr(b));
-                    Gd::Compare(CmpOp::parse(op).expect("checked"), a, b, span)
+                    Gd::Compare(CmpOp::parse(op).expect("checked"), Box::new(a), Box::new(b), span)
                 }
                 _ => {
                     self.malformed(e, format!("`{op}` takes two operands"));
@@ -297,7 +297,7 @@ impl Cx {
                 other => gds.push(self.gd(other)),
             }
         }
-        Gd::Modal(h.into(), gds, ids, span)
+        Gd::Modal(h.into(), gds, ids.into(), span)
     }
 
     pub(super) fn effect(&mut self, e: &GSexp<'_>) -> Effect {
@@ -341,7 +341,7 @@ impl Cx {
             "when" => match args {
                 [c, body] => {
                     let c = self.gd(c);
-                    Effect::When(c, Box::new(self.effect(body)), span)
+                    Effect::When(Box::new(c), Box::new(self.effect(body)), span)
                 }
                 _ => {
                     self.malformed(e, "`when` takes a condition and an effect");

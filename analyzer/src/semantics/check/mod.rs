@@ -301,7 +301,7 @@ impl<'a, 'db> Checker<'a, 'db> {
     fn duration(&mut self, d: &Gd) {
         let saved = self.durative;
         self.durative = true;
-        let simple = matches!(d, Gd::Compare(CmpOp::Eq, NumExpr::Duration(_), _, _))
+        let simple = matches!(d, Gd::Compare(CmpOp::Eq, l, _, _) if matches!(**l, NumExpr::Duration(_)))
             || matches!(d, Gd::And(v, _) if v.is_empty());
         if !simple {
             self.feature(Feature::DurationInequalities, gd_span(d));
@@ -319,7 +319,7 @@ impl<'a, 'db> Checker<'a, 'db> {
             Gd::And(parts, _) => parts.iter().for_each(|p| self.duration_values(p)),
             Gd::Timed(_, inner, _) => self.duration_values(inner),
             Gd::Compare(op, a, b, span) => {
-                let (op, value) = match (a, b) {
+                let (op, value) = match (&**a, &**b) {
                     (NumExpr::Duration(_), e) => (*op, e),
                     // `(>= 5 ?duration)` is `(<= ?duration 5)`.
                     (e, NumExpr::Duration(_)) => match op {

@@ -30,8 +30,8 @@ impl<'a, 'db> Run<'a, 'db> {
             CmpOp::Eq => CmpOp::Eq,
         };
         let (op, bound) = match g {
-            Gd::Compare(op, NumExpr::Duration(_), r, _) => (*op, r),
-            Gd::Compare(op, l, NumExpr::Duration(_), _) => (flip(*op), l),
+            Gd::Compare(op, l, r, _) if matches!(**l, NumExpr::Duration(_)) => (*op, &**r),
+            Gd::Compare(op, l, r, _) if matches!(**r, NumExpr::Duration(_)) => (flip(*op), &**l),
             _ => {
                 return match eval.holds(g, b) {
                     Ok(true) => None,
