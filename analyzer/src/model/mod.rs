@@ -10,7 +10,7 @@ pub use lower::{
     lower_list,
 };
 
-pub use name::Name;
+pub use name::{Name, Symbol};
 use rowan::{TextRange, TextSize};
 /// A short string stored inline (names are short): no allocation per name.
 pub type Str = compact_str::CompactString;

@@ -43,6 +43,12 @@ impl Name {
         self.sym.entry().key
     }
 
+    /// The symbol of [`Name::key`].
+    #[inline]
+    pub fn key_sym(&self) -> Symbol {
+        Symbol(self.sym.entry().key_sym)
+    }
+
     /// [`Name::text`], owned.
     pub fn text_str(&self) -> Str {
         Str::new(self.text())
@@ -64,15 +70,99 @@ impl std::fmt::Debug for Name {
     }
 }
 
-/// A distinct text: its index in the table.
+/// A distinct text, interned: its index in the table. Compared and hashed
+/// as an integer, ordered by its text, read as a `&'static str`.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
-struct Symbol(u32);
+pub struct Symbol(u32);
+
+impl Symbol {
+    /// The symbol of `text` (as written: `Rover` and `rover` are two symbols).
+    #[inline]
+    pub fn new(text: &str) -> Symbol {
+        Symbol::intern(text)
+    }
+
+    #[inline]
+    pub fn as_str(self) -> &'static str {
+        self.entry().text
+    }
+}
+
+impl std::ops::Deref for Symbol {
+    type Target = str;
+    #[inline]
+    fn deref(&self) -> &'static str {
+        self.as_str()
+    }
+}
+
+impl From<&str> for Symbol {
+    fn from(text: &str) -> Symbol {
+        Symbol::new(text)
+    }
+}
+
+impl From<String> for Symbol {
+    fn from(text: String) -> Symbol {
+        Symbol::new(&text)
+    }
+}
+
+impl AsRef<str> for Symbol {
+    fn as_ref(&self) -> &str {
+        self.as_str()
+    }
+}
+
+impl std::borrow::Borrow<str> for Symbol {
+    fn borrow(&self) -> &str {
+        self.as_str()
+    }
+}
+
+impl PartialOrd for Symbol {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Symbol {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        if self.0 == other.0 { std::cmp::Ordering::Equal } else { self.as_str().cmp(other.as_str()) }
+    }
+}
+
+impl PartialEq<str> for Symbol {
+    fn eq(&self, other: &str) -> bool {
+        self.as_str() == other
+    }
+}
+
+impl PartialEq<&str> for Symbol {
+    fn eq(&self, other: &&str) -> bool {
+        self.as_str() == *other
+    }
+}
+
+impl std::fmt::Debug for Symbol {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Debug::fmt(self.as_str(), f)
+    }
+}
+
+impl std::fmt::Display for Symbol {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
 
 /// What a symbol stands for: the text as written and its key (the same
 /// slice when the text has no upper-case letter, as most names).
 struct Entry {
     text: &'static str,
     key: &'static str,
+    /// The symbol of `key` (this entry's own when the text is its key).
+    key_sym: u32,
 }
 
 /// The symbols' entries, by index: pushed under a shard's lock, read without one.
@@ -112,14 +202,23 @@ impl Symbol {
         if let Some(sym) = cache::get(h, text) {
             return sym;
         }
+        // The key's symbol first, with no lock held (it has no upper case:
+        // this recurses once at most).
+        let upper = super::has_ascii_uppercase(text.as_bytes());
+        let key_sym = upper.then(|| Symbol::intern(&text.to_ascii_lowercase()));
         // The top bits choose the shard, the map uses all of them.
         let mut shard = MAP[(h >> 60) as usize % SHARDS].lock().unwrap_or_else(|e| e.into_inner());
         let found = shard.map.find(h, |&i| ENTRIES[i as usize].text == text).copied();
         let index = match found {
             Some(i) => i,
             None => {
-                let entry = shard.store(text);
-                let i = u32::try_from(ENTRIES.push(entry)).expect("fewer than 2^32 distinct names");
+                let (text, key) = shard.store(text, upper);
+                // The index the entry will have, for its own key: entries
+                // are only pushed under a shard lock, but other shards push
+                // too, so it is read back from the push.
+                let i =
+                    ENTRIES.push_with(|i| Entry { text, key, key_sym: key_sym.map_or(i as u32, |k| k.0) });
+                let i = u32::try_from(i).expect("fewer than 2^32 distinct names");
                 shard.map.insert_unique(h, i, |&i| hash(ENTRIES[i as usize].text));
                 i
             }
@@ -132,8 +231,7 @@ impl Symbol {
 
 impl Shard {
     /// Copies `text` (and its key, when it differs) where it stays.
-    fn store(&mut self, text: &str) -> Entry {
-        let upper = super::has_ascii_uppercase(text.as_bytes());
+    fn store(&mut self, text: &str, upper: bool) -> (&'static str, &'static str) {
         let len = if upper { 2 * text.len() } else { text.len() };
         if self.chunk.len() < len {
             let size = len.max(CHUNK);
@@ -152,7 +250,7 @@ impl Shard {
         // byte in ASCII, which keeps UTF-8 valid.
         let text = std::str::from_utf8(text_bytes).expect("a copy of a str");
         let key = if upper { std::str::from_utf8(key_bytes).expect("a lower-cased str") } else { text };
-        Entry { text, key }
+        (text, key)
     }
 }
 

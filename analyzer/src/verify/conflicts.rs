@@ -72,11 +72,11 @@ impl PAtom {
             .iter()
             .map(|t| match t {
                 LTerm::Param(i) => PTerm::Param(*i),
-                LTerm::Const(c) => PTerm::Const(c.clone()),
-                LTerm::Free(n) => PTerm::Wild(n.clone()),
+                LTerm::Const(c) => PTerm::Const(Str::new(c)),
+                LTerm::Free(n) => PTerm::Wild(Str::new(n)),
             })
             .collect();
-        PAtom { pred: a.pred.clone(), args }
+        PAtom { pred: Str::new(a.pred), args }
     }
 }
 
@@ -257,8 +257,8 @@ fn lift(t: &LTerm, task: &Operator, m: &MethodSchema) -> PTerm {
                 _ => PTerm::Wild(m.params.get(*j as usize).map_or_else(|| "?x".into(), |p| p.name.clone())),
             }
         }
-        LTerm::Const(c) => PTerm::Const(c.clone()),
-        LTerm::Free(n) => PTerm::Wild(n.clone()),
+        LTerm::Const(c) => PTerm::Const(Str::new(c)),
+        LTerm::Free(n) => PTerm::Wild(Str::new(n)),
     }
 }
 

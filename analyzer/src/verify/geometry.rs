@@ -35,7 +35,7 @@ pub fn candidates<'a>(operators: impl IntoIterator<Item = &'a Operator>) -> Vec<
                 let mut differ = add.args.iter().zip(&del.args).enumerate().filter(|(_, (a, d))| a != d);
                 let (Some((pos, _)), None) = (differ.next(), differ.next()) else { continue };
                 let candidate = Candidate {
-                    pred: del.pred.clone(),
+                    pred: Str::new(del.pred),
                     arity: del.args.len() as u32,
                     pos: pos as u32,
                     key_type: None,

@@ -852,7 +852,7 @@ fn lifted_htn<'a, 'db>(
             .iter()
             .map(|t| match t {
                 Term::Var(n) => params.iter().position(|p| p.name == n.key()).map(|i| LTerm::Param(i as u32)),
-                Term::Const(n) => Some(LTerm::Const(n.key_str())),
+                Term::Const(n) => Some(LTerm::Const(n.key_sym())),
                 Term::Func(_) => None,
             })
             .collect::<Option<Vec<LTerm>>>()?;

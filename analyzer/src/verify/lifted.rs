@@ -18,8 +18,8 @@ use rowan::TextRange;
 
 use crate::db::{Db, Item, Section, lower_item};
 use crate::model::{
-    Action, ActionKind, Atom, CmpOp, ConflictsForm, Effect, Gd, ItemData, Method, NumExpr, Str, Task, Term,
-    TimeSpec, Typed,
+    Action, ActionKind, Atom, CmpOp, ConflictsForm, Effect, Gd, ItemData, Method, NumExpr, Str, Symbol, Task,
+    Term, TimeSpec, Typed,
 };
 use crate::semantics::check::gd_span;
 use crate::semantics::symbols::type_set;
@@ -30,18 +30,22 @@ pub enum LTerm {
     /// The operator's (or method's) parameter at this index.
     Param(u32),
     /// A constant, by key.
-    Const(Str),
+    Const(Symbol),
     /// A variable that is not a parameter: a wildcard in `:conflicts`, a
     /// quantified variable in a `forall` effect, or a placeholder for a term
     /// hipop cannot name (an object fluent).
-    Free(Str),
+    Free(Symbol),
 }
+
+/// The arguments of a lifted atom: most have at most three, kept inline.
+pub type LArgs = smallvec::SmallVec<[LTerm; 3]>;
 
 /// `(pred args…)` over [`LTerm`]s.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct LAtom {
-    pub pred: Str,
-    pub args: Vec<LTerm>,
+    /// The predicate's key.
+    pub pred: Symbol,
+    pub args: LArgs,
     pub span: TextRange,
 }
 
@@ -184,9 +188,9 @@ impl Scope<'_> {
         match t {
             Term::Var(n) => match self.params.iter().position(|p| p.name == n.key()) {
                 Some(i) => LTerm::Param(i as u32),
-                None => LTerm::Free(n.key_str()),
+                None => LTerm::Free(n.key_sym()),
             },
-            Term::Const(n) => LTerm::Const(n.key_str()),
+            Term::Const(n) => LTerm::Const(n.key_sym()),
             Term::Func(f) => {
                 self.unsupported.push(Unsupported { span: f.span, what: "an object-fluent term" });
                 LTerm::Free(format!("({})", f.func.key()).into())
@@ -195,7 +199,7 @@ impl Scope<'_> {
     }
 
     fn atom(&mut self, a: &Atom) -> LAtom {
-        LAtom { pred: a.pred.key_str(), args: a.args.iter().map(|t| self.term(t)).collect(), span: a.span }
+        LAtom { pred: a.pred.key_sym(), args: a.args.iter().map(|t| self.term(t)).collect(), span: a.span }
     }
 
     fn unsupported(&mut self, span: TextRange, what: &'static str) {
@@ -493,8 +497,8 @@ mod tests {
         assert_eq!(m.kind, OperatorKind::Durative);
         assert_eq!(m.pre.pos.len(), 2);
         assert_eq!(m.pre.neq, vec![(LTerm::Param(1), LTerm::Param(2))]);
-        assert_eq!(m.add[0].args, vec![LTerm::Param(0), LTerm::Param(2)]);
-        assert_eq!(m.del[0].args, vec![LTerm::Param(0), LTerm::Param(1)]);
+        assert_eq!(m.add[0].args.as_slice(), [LTerm::Param(0), LTerm::Param(2)]);
+        assert_eq!(m.del[0].args.as_slice(), [LTerm::Param(0), LTerm::Param(1)]);
         assert!(matches!(m.duration, Duration::Exact(_)));
         assert!(m.unsupported.is_empty());
     }
@@ -506,7 +510,7 @@ mod tests {
               (:task patrol :parameters (?r) :conflicts (and (at ?r ?w))))",
         );
         let conflicts = ops[0].conflicts.as_ref().expect("declared");
-        assert_eq!(conflicts.atoms[0].args, vec![LTerm::Param(0), LTerm::Free("?w".into())]);
+        assert_eq!(conflicts.atoms[0].args.as_slice(), [LTerm::Param(0), LTerm::Free("?w".into())]);
     }
 
     #[test]
@@ -559,6 +563,6 @@ mod tests {
             what,
             ["a disjunctive condition", "a universally quantified effect", "a conditional effect"]
         );
-        assert_eq!(ops[0].del[0].args, vec![LTerm::Free("?x".into())]);
+        assert_eq!(ops[0].del[0].args.as_slice(), [LTerm::Free("?x".into())]);
     }
 }

@@ -214,7 +214,7 @@ fn remap(terms: &[LTerm], keep: &[u32]) -> Vec<LTerm> {
 }
 
 fn latom(pred: &str, args: Vec<LTerm>) -> LAtom {
-    LAtom { pred: pred.into(), args, span: Default::default() }
+    LAtom { pred: pred.into(), args: args.into(), span: Default::default() }
 }
 
 fn req(name: &str) -> String {
