@@ -263,6 +263,17 @@ impl Analysis {
         self.with_db(|db| crate::ide::diagnostics::file_diagnostics(db, file).clone())
     }
 
+    /// Parses `file` and finds its units and items, which every question
+    /// about it reads first. The command line does this for every file
+    /// before checking any, so that the memory parsing frees (the lexer's
+    /// tokens, the parser's working memory, much of it on other threads)
+    /// can be returned to the system before the checks allocate theirs.
+    pub fn parse_file(&self, file: SourceFile) -> Cancellable<()> {
+        self.with_db(|db| {
+            crate::db::file_units(db, file);
+        })
+    }
+
     /// The diagnostics of the syntax and semantic checks only: what the
     /// language server publishes first, while the lints (which may ground a
     /// large problem) are computed.
