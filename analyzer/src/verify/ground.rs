@@ -48,13 +48,26 @@ pub struct Limits {
     pub operators: usize,
     /// Ground instances kept per method.
     pub method_instances: usize,
+    /// Whether a grounding stopped at a limit keeps the instances it found
+    /// ([`Ground::operators`]). The planner's does: its refusal (E0501)
+    /// says which action dominates and how many of its instances were
+    /// found. The lints' does not: every lint but the durations' is silent
+    /// on an incomplete grounding (it cannot confirm anything), and the
+    /// durations are evaluated instance by instance all the same. At the
+    /// lints' limit, that is 200,000 operators and their lists not held
+    /// (15 MB of a 3.4 MB Satellite problem's check).
+    pub keep_past_limit: bool,
 }
 
 impl Limits {
     /// The lints': they run on every edit, so grounding stays well under a
     /// second.
-    pub const DEFAULT: Limits =
-        Limits { candidates: 2_000_000, operators: 200_000, method_instances: 10_000 };
+    pub const DEFAULT: Limits = Limits {
+        candidates: 2_000_000,
+        operators: 200_000,
+        method_instances: 10_000,
+        keep_past_limit: false,
+    };
     /// The planner's ([`ground_relevant`]): a run is given seconds, and the
     /// model it grounds is what it searches, so only a model too large to
     /// search stops it (the candidates tried are work, not the model's size:
@@ -62,8 +75,12 @@ impl Limits {
     /// in 2.3 million candidates). 2,000,000 operators fit in the planner's
     /// default memory limit (4 GiB) with room for the search: Depots
     /// hand-coded 6's 1,547,850 take 1.3 GB.
-    pub const PLANNER: Limits =
-        Limits { candidates: 100_000_000, operators: 2_000_000, method_instances: 10_000 };
+    pub const PLANNER: Limits = Limits {
+        candidates: 100_000_000,
+        operators: 2_000_000,
+        method_instances: 10_000,
+        keep_past_limit: true,
+    };
 }
 
 impl Default for Limits {
@@ -186,7 +203,8 @@ pub struct Ground<'db> {
     pub dynamic_funcs: Vec<bool>,
     /// The domain's actions and tasks, in the order written.
     pub schemas: Vec<Schema<'db>>,
-    /// The reachable instances, grouped by schema.
+    /// The reachable instances, grouped by schema; none when grounding
+    /// stopped at a limit that keeps nothing ([`Limits::keep_past_limit`]).
     pub operators: Vec<GroundOperator<'db>>,
     /// The lists of the ground operators, back to back.
     lists: Vec<u32>,
@@ -635,8 +653,13 @@ fn ground_with_mode<'db>(
     // needed: freed before the ground operators are built, the largest part
     // of the peak.
     fix.instances.forget_index();
-    g.operators.reserve_exact(total);
-    g.lists.reserve_exact(lists_len);
+    // A grounding past its limit that keeps nothing only evaluates the
+    // durations of the instances found ([`Limits::keep_past_limit`]).
+    let keep = !g.truncated || limits.keep_past_limit;
+    if keep {
+        g.operators.reserve_exact(total);
+        g.lists.reserve_exact(lists_len);
+    }
     // Build the ground operators, schema by schema, instances sorted by arguments.
     let mut key = Vec::new();
     let by_args = |a: &[ObjId], b: &[ObjId]| {
@@ -673,26 +696,6 @@ fn ground_with_mode<'db>(
             if args.len() != arity {
                 continue;
             }
-            lists.extend_from_slice(args);
-            let at = lists.len();
-            let mut ends = [0u32; 4];
-            for (n, l) in [&c.pre, &c.neg, &c.spec_add.add, &c.del].into_iter().enumerate() {
-                let from = lists.len();
-                for a in l {
-                    a.key(args, &mut key);
-                    lists.push(atoms.intern(&key));
-                }
-                lists[from..].sort_unstable();
-                let mut kept = from;
-                for i in from..lists.len() {
-                    if kept == from || lists[i] != lists[kept - 1] {
-                        lists[kept] = lists[i];
-                        kept += 1;
-                    }
-                }
-                lists.truncate(kept);
-                ends[n] = (lists.len() - at) as u32;
-            }
             let (duration, no_duration) = match &c.duration {
                 None => (fixed, false),
                 Some(e) => {
@@ -723,6 +726,29 @@ fn ground_with_mode<'db>(
                     }
                 }
             };
+            if !keep {
+                continue;
+            }
+            lists.extend_from_slice(args);
+            let at = lists.len();
+            let mut ends = [0u32; 4];
+            for (n, l) in [&c.pre, &c.neg, &c.spec_add.add, &c.del].into_iter().enumerate() {
+                let from = lists.len();
+                for a in l {
+                    a.key(args, &mut key);
+                    lists.push(atoms.intern(&key));
+                }
+                lists[from..].sort_unstable();
+                let mut kept = from;
+                for i in from..lists.len() {
+                    if kept == from || lists[i] != lists[kept - 1] {
+                        lists[kept] = lists[i];
+                        kept += 1;
+                    }
+                }
+                lists.truncate(kept);
+                ends[n] = (lists.len() - at) as u32;
+            }
             operators.push(GroundOperator {
                 op: *item,
                 schema: schema as u32,
@@ -1490,17 +1516,57 @@ mod tests {
         let p = format!("(define (problem p) (:domain big) (:objects {}) (:init))", objects.join(" "));
         with_problem(d, &p, |db, unit| {
             // 40⁴ = 2,560,000 candidate instances of `make`.
-            let limits = Limits { candidates: 100_000, operators: 1_000_000, method_instances: 10 };
+            let limits = Limits {
+                candidates: 100_000,
+                operators: 1_000_000,
+                method_instances: 10,
+                keep_past_limit: true,
+            };
             let g = ground_with(db, unit, limits);
             assert!(g.truncated);
             assert!(g.operators.len() < 100_000);
-            let limits = Limits { candidates: 10_000_000, operators: 5_000, method_instances: 10 };
+            let limits = Limits {
+                candidates: 10_000_000,
+                operators: 5_000,
+                method_instances: 10,
+                keep_past_limit: true,
+            };
             let g = ground_with(db, unit, limits);
             assert!(g.truncated);
             assert_eq!(g.operators_of(g.schemas[0].item).len(), 5_000);
             let m = ground_methods_with(db, unit, &g, limits);
             assert_eq!(m.methods.len(), 10);
             assert_eq!(m.truncated.len(), 1);
+        });
+    }
+
+    #[test]
+    fn a_grounding_past_the_lints_limit_keeps_no_operator_but_evaluates_every_duration() {
+        let d = "(define (domain trips) (:requirements :durative-actions :fluents)
+          (:predicates (at ?p) (seen ?p))
+          (:functions (distance ?a ?b))
+          (:durative-action go :parameters (?a ?b)
+            :duration (= ?duration (distance ?a ?b))
+            :condition (at start (at ?a))
+            :effect (and (at start (not (at ?a))) (at end (at ?b)) (at end (seen ?b)))))";
+        let objects: Vec<String> = (0..40).map(|i| format!("o{i}")).collect();
+        // Distances for the trips out of o0 only: the other 1,560 instances
+        // of `go` have no duration.
+        let distances: Vec<String> = (1..40).map(|i| format!("(= (distance o0 o{i}) {i})")).collect();
+        let p = format!(
+            "(define (problem p) (:domain trips) (:objects {}) (:init (at o0) {}))",
+            objects.join(" "),
+            distances.join(" ")
+        );
+        with_problem(d, &p, |db, unit| {
+            let kept = Limits { operators: 500, keep_past_limit: true, ..Limits::DEFAULT };
+            let kept = ground_with(db, unit, kept);
+            let not_kept = ground_with(db, unit, Limits { operators: 500, ..Limits::DEFAULT });
+            assert!(kept.truncated && not_kept.truncated);
+            assert_eq!(kept.operators.len(), 500);
+            assert!(not_kept.operators.is_empty());
+            assert!(!kept.duration_issues.is_empty());
+            assert_eq!(kept.duration_issues, not_kept.duration_issues);
         });
     }
 
