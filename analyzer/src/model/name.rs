@@ -8,8 +8,10 @@
 //! and key are `&'static str`.
 //!
 //! The table only grows: a language server keeps every name it has ever
-//! lowered, including those typed half-way. Names are short and repeat, so
-//! this stays small (a few bytes per distinct name typed in a session).
+//! lowered, including those typed half-way. Each distinct text costs about
+//! 55 bytes besides its own bytes (its 48-byte slot in the table, its place
+//! in the map): a session that types ten thousand names of ten letters,
+//! each lowered at every letter, adds about 6 MB.
 
 use std::hash::{BuildHasher, Hasher};
 use std::sync::Mutex;
