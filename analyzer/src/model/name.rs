@@ -159,7 +159,8 @@ impl std::fmt::Display for Symbol {
 }
 
 /// What a symbol stands for: the text as written and its key (the same
-/// slice when the text has no upper-case letter, as most names).
+/// slice when the text has no upper-case letter, as most names; else the
+/// text of the key's own symbol).
 struct Entry {
     text: &'static str,
     key: &'static str,
@@ -206,18 +207,19 @@ impl Symbol {
         }
         // The key's symbol first, with no lock held (it has no upper case:
         // this recurses once at most).
-        let upper = super::has_ascii_uppercase(text.as_bytes());
-        let key_sym = upper.then(|| Symbol::intern(&text.to_ascii_lowercase()));
+        let key_sym =
+            super::has_ascii_uppercase(text.as_bytes()).then(|| Symbol::intern(&text.to_ascii_lowercase()));
         // The top bits choose the shard, the map uses all of them.
         let mut shard = MAP[(h >> 60) as usize % SHARDS].lock().unwrap_or_else(|e| e.into_inner());
         let found = shard.map.find(h, |&i| ENTRIES[i as usize].text == text).copied();
         let index = match found {
             Some(i) => i,
             None => {
-                let (text, key) = shard.store(text, upper);
-                // The index the entry will have, for its own key: entries
-                // are only pushed under a shard lock, but other shards push
-                // too, so it is read back from the push.
+                let text = shard.store(text);
+                // A text with upper case shares its key's entry's text; one
+                // without is its own key, and the entry's index is its key's
+                // symbol (read back from the push: other shards push too).
+                let key = key_sym.map_or(text, Symbol::as_str);
                 let i =
                     ENTRIES.push_with(|i| Entry { text, key, key_sym: key_sym.map_or(i as u32, |k| k.0) });
                 let i = u32::try_from(i).expect("fewer than 2^32 distinct names");
@@ -232,27 +234,17 @@ impl Symbol {
 }
 
 impl Shard {
-    /// Copies `text` (and its key, when it differs) where it stays.
-    fn store(&mut self, text: &str, upper: bool) -> (&'static str, &'static str) {
-        let len = if upper { 2 * text.len() } else { text.len() };
-        if self.chunk.len() < len {
-            let size = len.max(CHUNK);
+    /// Copies `text` where it stays.
+    fn store(&mut self, text: &str) -> &'static str {
+        if self.chunk.len() < text.len() {
+            let size = text.len().max(CHUNK);
             self.chunk = Box::leak(vec![0u8; size].into_boxed_slice());
         }
-        let (bytes, rest) = std::mem::take(&mut self.chunk).split_at_mut(len);
+        let (bytes, rest) = std::mem::take(&mut self.chunk).split_at_mut(text.len());
         self.chunk = rest;
-        bytes[..text.len()].copy_from_slice(text.as_bytes());
-        if upper {
-            bytes[text.len()..].copy_from_slice(text.as_bytes());
-            bytes[text.len()..].make_ascii_lowercase();
-        }
+        bytes.copy_from_slice(text.as_bytes());
         let bytes: &'static [u8] = bytes;
-        let (text_bytes, key_bytes) = bytes.split_at(text.len());
-        // Both halves are copies of a `str`, the second lower-cased byte by
-        // byte in ASCII, which keeps UTF-8 valid.
-        let text = std::str::from_utf8(text_bytes).expect("a copy of a str");
-        let key = if upper { std::str::from_utf8(key_bytes).expect("a lower-cased str") } else { text };
-        (text, key)
+        std::str::from_utf8(bytes).expect("a copy of a str")
     }
 }
 
