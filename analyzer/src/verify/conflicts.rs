@@ -43,7 +43,7 @@ use super::LintFix;
 use super::lifted::{LAtom, LSubtask, LTerm, MethodSchema, Operator, OperatorKind, method_schema, operator};
 use crate::db::{Db, Item, Section, Unit};
 use crate::diagnostic::codes;
-use crate::model::{ConflictsForm, Str};
+use crate::model::{ConflictsForm, Str, Symbol};
 use crate::semantics::symbols::Loc;
 
 /// A term of a literal seen from one task.
@@ -52,16 +52,16 @@ enum PTerm {
     /// The task's parameter at this index.
     Param(u32),
     /// A constant, by key.
-    Const(Str),
+    Const(Symbol),
     /// Any object: a variable that no parameter of the task binds, with the
     /// name it is shown with.
-    Wild(Str),
+    Wild(Symbol),
 }
 
 /// `(pred args…)` over [`PTerm`]s.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 struct PAtom {
-    pred: Str,
+    pred: Symbol,
     args: Vec<PTerm>,
 }
 
@@ -72,11 +72,11 @@ impl PAtom {
             .iter()
             .map(|t| match t {
                 LTerm::Param(i) => PTerm::Param(*i),
-                LTerm::Const(c) => PTerm::Const(Str::new(c)),
-                LTerm::Free(n) => PTerm::Wild(Str::new(n)),
+                LTerm::Const(c) => PTerm::Const(*c),
+                LTerm::Free(n) => PTerm::Wild(*n),
             })
             .collect();
-        PAtom { pred: Str::new(a.pred), args }
+        PAtom { pred: a.pred, args }
     }
 }
 
@@ -254,11 +254,13 @@ fn lift(t: &LTerm, task: &Operator, m: &MethodSchema) -> PTerm {
             let call = m.task.as_ref().map_or(&[][..], |(_, args, _)| &args[..]);
             match call.iter().position(|a| a == t) {
                 Some(i) if i < task.params.len() => PTerm::Param(i as u32),
-                _ => PTerm::Wild(m.params.get(*j as usize).map_or_else(|| "?x".into(), |p| p.name.clone())),
+                _ => PTerm::Wild(
+                    m.params.get(*j as usize).map_or_else(|| "?x".into(), |p| Symbol::new(&p.name)),
+                ),
             }
         }
-        LTerm::Const(c) => PTerm::Const(Str::new(c)),
-        LTerm::Free(n) => PTerm::Wild(Str::new(n)),
+        LTerm::Const(c) => PTerm::Const(*c),
+        LTerm::Free(n) => PTerm::Wild(*n),
     }
 }
 
@@ -290,10 +292,7 @@ fn method_deletions<'db>(
                     other => other.clone(),
                 })
                 .collect();
-            out.push((
-                si,
-                Deleted { atom: PAtom { pred: d.atom.pred.clone(), args }, origin: d.origin.clone() },
-            ));
+            out.push((si, Deleted { atom: PAtom { pred: d.atom.pred, args }, origin: d.origin.clone() }));
         }
     }
     out
