@@ -178,7 +178,7 @@ fn check_groups(
 /// which ground the problems on the lowered models. The trees and the
 /// grounding are never held at once. With `return_memory`, the memory
 /// freed after the parses and after the trees is returned to the system
-/// (Satellite pair: peak 82-87 -> 72-75 MB for the parses, at no cost in
+/// (Satellite pair: peak 85-89 -> 76-79 MB for the parses, at no cost in
 /// time; docs/benchmarks.md).
 fn check_all(
     host: &mut AnalysisHost,

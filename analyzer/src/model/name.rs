@@ -30,7 +30,7 @@ pub struct Name {
 impl Name {
     #[inline]
     pub fn new(text: &str, span: TextRange) -> Name {
-        Name { sym: Symbol::intern(text), span }
+        Name { sym: Symbol::new(text), span }
     }
 
     /// The name as written.
@@ -78,12 +78,6 @@ impl std::fmt::Debug for Name {
 pub struct Symbol(u32);
 
 impl Symbol {
-    /// The symbol of `text` (as written: `Rover` and `rover` are two symbols).
-    #[inline]
-    pub fn new(text: &str) -> Symbol {
-        Symbol::intern(text)
-    }
-
     #[inline]
     pub fn as_str(self) -> &'static str {
         self.entry().text
@@ -200,7 +194,8 @@ impl Symbol {
         &ENTRIES[self.0 as usize]
     }
 
-    fn intern(text: &str) -> Symbol {
+    /// The symbol of `text` (as written: `Rover` and `rover` are two symbols).
+    pub fn new(text: &str) -> Symbol {
         let h = hash(text);
         if let Some(sym) = cache::get(h, text) {
             return sym;
@@ -208,7 +203,7 @@ impl Symbol {
         // The key's symbol first, with no lock held (it has no upper case:
         // this recurses once at most).
         let key_sym =
-            super::has_ascii_uppercase(text.as_bytes()).then(|| Symbol::intern(&text.to_ascii_lowercase()));
+            super::has_ascii_uppercase(text.as_bytes()).then(|| Symbol::new(&text.to_ascii_lowercase()));
         // The top bits choose the shard, the map uses all of them.
         let mut shard = MAP[(h >> 60) as usize % SHARDS].lock().unwrap_or_else(|e| e.into_inner());
         let found = shard.map.find(h, |&i| ENTRIES[i as usize].text == text).copied();
